@@ -1,0 +1,488 @@
+//! The model graph: a hash-consed DAG of operations over the point `x[]` and
+//! the parameters `a[]`, and [`Tape`], its compacted, topologically ordered
+//! form that every evaluator runs.
+//!
+//! Nodes are created through [`Graph`]'s methods, which
+//! * fold constants (an operation of constants becomes a constant, or an
+//!   [`Node::Error`] where the reference interpreter would stop);
+//! * apply value-exact identities (`a + 0`, `a * 1`, `--a`, ...);
+//! * hash-cons: a structurally equal node is created once.
+//!
+//! R-functions, blends, `min` and `max` are operations of their own: they are
+//! never expanded into `+`, `sqrt` and squares, so that interval evaluation
+//! can bound them tightly.
+//!
+//! Children always have smaller ids than their parents, so a graph (and a
+//! tape) is in evaluation order.
+//!
+//! ## Errors and evaluation order
+//! The reference interpreter stops at the first runtime error, evaluating the
+//! right operand of a binary operation (and the last argument of a call)
+//! first. [`Node::Check`] records that order: `Check(g, v)` has the value of
+//! `v`, but reports `g`'s error first. The compiler threads a chain of
+//! `Check`s through the statements, so that the point evaluator reports the
+//! same error as the reference even when the erroneous value is never used.
+//! Bulk evaluators produce NaN for errors and ignore the guard of a `Check`.
+
+use std::collections::HashMap;
+
+use crate::ops::{self, BinaryOp, BlendOp, EvalError, UnaryOp};
+
+/// Index of a node in a [`Graph`] or a [`Tape`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct NodeId(pub u32);
+
+impl NodeId {
+    /// The index as `usize`.
+    #[inline]
+    pub fn index(self) -> usize {
+        self.0 as usize
+    }
+}
+
+/// One operation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Node {
+    /// A constant, stored as its bits (use [`Node::const_value`]).
+    Const(u64),
+    /// Coordinate `x[i + 1]` (0 = x, 1 = y, 2 = z; further slots for models
+    /// that declare `x[4]` or more).
+    X(u32),
+    /// Parameter `a[i + 1]`.
+    Param(u32),
+    /// A value that is always the given runtime error.
+    Error(EvalError),
+    /// A one-argument operation.
+    Unary(UnaryOp, NodeId),
+    /// A two-argument operation `op(a, b)`.
+    Binary(BinaryOp, NodeId, NodeId),
+    /// HyperFun's `b ^ n` for a constant integer `n` ([`ops::pow_int`]).
+    PowI(NodeId, i32),
+    /// `if truthy(c) then t else e` — only the chosen branch's error counts.
+    Select(NodeId, NodeId, NodeId),
+    /// `hfBlendUni` / `hfBlendInt` of `(f1, f2, a0, a1, a2)`.
+    Blend(BlendOp, [NodeId; 5]),
+    /// The value of `v` (second); the error of `g` (first) is reported before
+    /// `v`'s. Bulk evaluators ignore `g`.
+    Check(NodeId, NodeId),
+}
+
+impl Node {
+    /// A constant node.
+    pub fn constant(v: f64) -> Node {
+        Node::Const(v.to_bits())
+    }
+
+    /// The value of a constant node.
+    pub fn const_value(&self) -> Option<f64> {
+        match *self {
+            Node::Const(b) => Some(f64::from_bits(b)),
+            _ => None,
+        }
+    }
+
+    /// The node's children, in argument order.
+    pub fn children(&self) -> impl Iterator<Item = NodeId> {
+        let (arr, n): ([NodeId; 5], usize) = match *self {
+            Node::Const(_) | Node::X(_) | Node::Param(_) | Node::Error(_) => ([NodeId(0); 5], 0),
+            Node::Unary(_, a) | Node::PowI(a, _) => ([a, a, a, a, a], 1),
+            Node::Binary(_, a, b) | Node::Check(a, b) => ([a, b, b, b, b], 2),
+            Node::Select(c, t, e) => ([c, t, e, e, e], 3),
+            Node::Blend(_, args) => (args, 5),
+        };
+        arr.into_iter().take(n)
+    }
+
+    /// The same operation with each child mapped through `f`.
+    pub fn map_children(&self, mut f: impl FnMut(NodeId) -> NodeId) -> Node {
+        match *self {
+            Node::Const(_) | Node::X(_) | Node::Param(_) | Node::Error(_) => *self,
+            Node::Unary(op, a) => Node::Unary(op, f(a)),
+            Node::PowI(a, n) => Node::PowI(f(a), n),
+            Node::Binary(op, a, b) => Node::Binary(op, f(a), f(b)),
+            Node::Check(a, b) => Node::Check(f(a), f(b)),
+            Node::Select(c, t, e) => Node::Select(f(c), f(t), f(e)),
+            Node::Blend(op, args) => Node::Blend(op, args.map(f)),
+        }
+    }
+
+    /// Whether this operation itself can produce a runtime error.
+    pub fn op_fallible(&self) -> bool {
+        match *self {
+            Node::Error(_) => true,
+            Node::Unary(op, _) => op.fallible(),
+            Node::Binary(op, _, _) => op.fallible(),
+            Node::PowI(_, n) => n <= 0,
+            _ => false,
+        }
+    }
+}
+
+/// A hash-consed graph under construction (see the module docs).
+#[derive(Clone, Debug, Default)]
+pub struct Graph {
+    nodes: Vec<Node>,
+    /// Whether each node can evaluate to an error at some point.
+    fallible: Vec<bool>,
+    dedup: HashMap<Node, NodeId>,
+}
+
+impl Graph {
+    /// An empty graph.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Number of nodes.
+    pub fn len(&self) -> usize {
+        self.nodes.len()
+    }
+
+    /// Whether the graph has no node.
+    pub fn is_empty(&self) -> bool {
+        self.nodes.is_empty()
+    }
+
+    /// The node with this id.
+    pub fn node(&self, id: NodeId) -> &Node {
+        &self.nodes[id.index()]
+    }
+
+    /// All nodes, in evaluation order.
+    pub fn nodes(&self) -> &[Node] {
+        &self.nodes
+    }
+
+    /// The value of a constant node, if it is one.
+    pub fn const_value(&self, id: NodeId) -> Option<f64> {
+        self.node(id).const_value()
+    }
+
+    /// The error of an error node, if it is one.
+    pub fn error_value(&self, id: NodeId) -> Option<EvalError> {
+        match *self.node(id) {
+            Node::Error(e) => Some(e),
+            _ => None,
+        }
+    }
+
+    /// Whether the node can evaluate to a runtime error at some point.
+    pub fn is_fallible(&self, id: NodeId) -> bool {
+        self.fallible[id.index()]
+    }
+
+    /// Adds a node as it is (no folding), or finds its twin.
+    fn intern(&mut self, node: Node) -> NodeId {
+        if let Some(&id) = self.dedup.get(&node) {
+            return id;
+        }
+        let fallible = node.op_fallible() || node.children().any(|c| self.fallible[c.index()]);
+        let id = NodeId(u32::try_from(self.nodes.len()).expect("graph exceeds u32 nodes"));
+        self.nodes.push(node);
+        self.fallible.push(fallible);
+        self.dedup.insert(node, id);
+        id
+    }
+
+    /// A constant.
+    pub fn constant(&mut self, v: f64) -> NodeId {
+        self.intern(Node::constant(v))
+    }
+
+    /// Coordinate `x[i + 1]`.
+    pub fn x(&mut self, i: u32) -> NodeId {
+        self.intern(Node::X(i))
+    }
+
+    /// Parameter `a[i + 1]`.
+    pub fn param(&mut self, i: u32) -> NodeId {
+        self.intern(Node::Param(i))
+    }
+
+    /// A node that is always the error `e`.
+    pub fn error(&mut self, e: EvalError) -> NodeId {
+        self.intern(Node::Error(e))
+    }
+
+    fn from_result(&mut self, r: Result<f64, EvalError>) -> NodeId {
+        match r {
+            Ok(v) => self.constant(v),
+            Err(e) => self.error(e),
+        }
+    }
+
+    /// Folds the arguments' errors, given in the order the reference evaluates
+    /// them: the first argument that is an error node makes the result that
+    /// error, once the arguments evaluated before it have had their chance to
+    /// fail first.
+    fn fold_errors(&mut self, eval_order: &[NodeId]) -> Option<NodeId> {
+        let k = eval_order
+            .iter()
+            .position(|&a| matches!(self.node(a), Node::Error(_)))?;
+        let mut r = eval_order[k];
+        for &g in eval_order[..k].iter().rev() {
+            r = self.check(g, r);
+        }
+        Some(r)
+    }
+
+    /// `op(a)`, folded.
+    pub fn unary(&mut self, op: UnaryOp, a: NodeId) -> NodeId {
+        if let Some(e) = self.fold_errors(&[a]) {
+            return e;
+        }
+        if let Some(v) = self.const_value(a) {
+            return self.from_result(ops::unary(op, v));
+        }
+        match (op, *self.node(a)) {
+            (UnaryOp::Neg, Node::Unary(UnaryOp::Neg, inner)) => return inner,
+            (UnaryOp::Abs, Node::Unary(UnaryOp::Abs | UnaryOp::Neg, inner))
+                if op == UnaryOp::Abs =>
+            {
+                return self.unary(UnaryOp::Abs, inner)
+            }
+            _ => {}
+        }
+        self.intern(Node::Unary(op, a))
+    }
+
+    /// `op(a, b)`, folded.
+    pub fn binary(&mut self, op: BinaryOp, a: NodeId, b: NodeId) -> NodeId {
+        if let Some(e) = self.fold_errors(&[b, a]) {
+            return e;
+        }
+        let (ca, cb) = (self.const_value(a), self.const_value(b));
+        if let (Some(x), Some(y)) = (ca, cb) {
+            return self.from_result(ops::binary(op, x, y));
+        }
+        // Value-exact identities (up to the sign of a zero result).
+        match (op, ca, cb) {
+            (BinaryOp::Add, _, Some(z)) | (BinaryOp::Sub, _, Some(z)) if z == 0.0 => return a,
+            (BinaryOp::Add, Some(z), _) if z == 0.0 => return b,
+            (BinaryOp::Mul, _, Some(o)) | (BinaryOp::Div, _, Some(o)) | (BinaryOp::DivF, _, Some(o))
+                if o == 1.0 =>
+            {
+                return a
+            }
+            (BinaryOp::Mul, Some(o), _) if o == 1.0 => return b,
+            (BinaryOp::Sub, Some(z), _) if z == 0.0 => return self.unary(UnaryOp::Neg, b),
+            (BinaryOp::Pow, _, Some(e))
+                if e - e.floor() < ops::EPS && ops::round_half_up(e.abs()) <= f64::from(i32::MAX) =>
+            {
+                // The reference's "integer power": |e| rounded half up, inverted
+                // for e < 0. For such e, `e <= EPS` (an error at |b| < EPS)
+                // holds exactly when the rounded exponent is <= 0.
+                let n = ops::round_half_up(e.abs()) as i32;
+                return self.pow_int(a, if e < 0.0 { -n } else { n });
+            }
+            _ => {}
+        }
+        if a == b {
+            match op {
+                BinaryOp::Min | BinaryOp::Max => return a,
+                BinaryOp::Sub if !self.is_fallible(a) => {
+                    // a - a is 0 for finite a, NaN for inf/NaN: keep it.
+                }
+                _ => {}
+            }
+        }
+        let (a, b) = if op.commutative() && a > b && !self.is_fallible(a) && !self.is_fallible(b) {
+            (b, a)
+        } else {
+            (a, b)
+        };
+        self.intern(Node::Binary(op, a, b))
+    }
+
+    /// HyperFun's `b ^ n` for a constant integer `n` ([`ops::pow_int`]).
+    pub fn pow_int(&mut self, b: NodeId, n: i32) -> NodeId {
+        if let Some(err) = self.fold_errors(&[b]) {
+            return err;
+        }
+        if let Some(v) = self.const_value(b) {
+            return self.from_result(ops::pow_int(v, n));
+        }
+        self.intern(Node::PowI(b, n))
+    }
+
+    /// `if truthy(c) then t else e`, folded.
+    pub fn select(&mut self, c: NodeId, t: NodeId, e: NodeId) -> NodeId {
+        if let Some(cv) = self.const_value(c) {
+            return if ops::truthy(cv) { t } else { e };
+        }
+        if matches!(self.node(c), Node::Error(_)) {
+            return c;
+        }
+        if t == e {
+            return self.check(c, t);
+        }
+        self.intern(Node::Select(c, t, e))
+    }
+
+    /// A blend of `(f1, f2, a0, a1, a2)`, folded.
+    pub fn blend(&mut self, op: BlendOp, args: [NodeId; 5]) -> NodeId {
+        let [f1, f2, a0, a1, a2] = args;
+        if let Some(e) = self.fold_errors(&[a2, a1, a0, f2, f1]) {
+            return e;
+        }
+        let consts: Option<Vec<f64>> = args.iter().map(|&a| self.const_value(a)).collect();
+        if let Some(v) = consts {
+            return self.constant(ops::blend(op, v[0], v[1], v[2], v[3], v[4]));
+        }
+        self.intern(Node::Blend(op, args))
+    }
+
+    /// The value of `v`, with `g`'s error reported first (see the module docs).
+    pub fn check(&mut self, g: NodeId, v: NodeId) -> NodeId {
+        if !self.is_fallible(g) || g == v {
+            return v;
+        }
+        if matches!(self.node(g), Node::Error(_)) {
+            return g;
+        }
+        // A guard already inside v's own checks need not be repeated.
+        if let Node::Check(g2, _) = *self.node(v) {
+            if g2 == g {
+                return v;
+            }
+        }
+        self.intern(Node::Check(g, v))
+    }
+
+    /// The compacted tape computing `outputs`: only the nodes they need, in
+    /// evaluation order, renumbered.
+    pub fn tape(&self, outputs: &[NodeId]) -> Tape {
+        Tape::from_nodes(&self.nodes, outputs)
+    }
+}
+
+/// A compacted, topologically ordered list of nodes with designated outputs;
+/// what the evaluators run. Node ids inside a tape refer to tape positions.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Tape {
+    /// The operations in evaluation order; children precede parents.
+    pub nodes: Vec<Node>,
+    /// The positions of the outputs (value first, then attributes).
+    pub outputs: Vec<NodeId>,
+}
+
+impl Tape {
+    /// Extracts the nodes needed by `outputs` from an ordered node list.
+    pub fn from_nodes(nodes: &[Node], outputs: &[NodeId]) -> Tape {
+        let mut live = vec![false; nodes.len()];
+        for o in outputs {
+            live[o.index()] = true;
+        }
+        for i in (0..nodes.len()).rev() {
+            if live[i] {
+                for c in nodes[i].children() {
+                    live[c.index()] = true;
+                }
+            }
+        }
+        let mut remap = vec![u32::MAX; nodes.len()];
+        let mut out = Vec::with_capacity(live.iter().filter(|&&l| l).count());
+        for (i, n) in nodes.iter().enumerate() {
+            if live[i] {
+                remap[i] = out.len() as u32;
+                out.push(n.map_children(|c| NodeId(remap[c.index()])));
+            }
+        }
+        Tape {
+            nodes: out,
+            outputs: outputs.iter().map(|o| NodeId(remap[o.index()])).collect(),
+        }
+    }
+
+    /// Number of operations.
+    pub fn len(&self) -> usize {
+        self.nodes.len()
+    }
+
+    /// Whether the tape is empty.
+    pub fn is_empty(&self) -> bool {
+        self.nodes.is_empty()
+    }
+
+    /// The number of coordinate slots read (1 + the largest `X` index).
+    pub fn x_slots(&self) -> usize {
+        self.nodes
+            .iter()
+            .filter_map(|n| match n {
+                Node::X(i) => Some(*i as usize + 1),
+                _ => None,
+            })
+            .max()
+            .unwrap_or(0)
+    }
+
+    /// For each node, the position of its last use (its own position when
+    /// only an output or unused): what a register allocator needs.
+    pub fn last_uses(&self) -> Vec<u32> {
+        let mut last: Vec<u32> = (0..self.nodes.len() as u32).collect();
+        for (i, n) in self.nodes.iter().enumerate() {
+            for c in n.children() {
+                last[c.index()] = i as u32;
+            }
+        }
+        for o in &self.outputs {
+            last[o.index()] = u32::MAX;
+        }
+        last
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn folds_and_dedups() {
+        let mut g = Graph::new();
+        let x = g.x(0);
+        let two = g.constant(2.0);
+        let three = g.constant(3.0);
+        let five = g.binary(BinaryOp::Add, two, three);
+        assert_eq!(g.const_value(five), Some(5.0));
+        let a = g.binary(BinaryOp::Mul, x, five);
+        let b = g.binary(BinaryOp::Mul, five, x);
+        assert_eq!(a, b, "commutative twins are one node");
+        let zero = g.constant(0.0);
+        assert_eq!(g.binary(BinaryOp::Add, a, zero), a);
+        let one = g.constant(1.0);
+        let d = g.binary(BinaryOp::Div, one, zero);
+        assert_eq!(g.error_value(d), Some(EvalError::DivisionByZero));
+        let sq = g.binary(BinaryOp::Pow, x, two);
+        assert_eq!(*g.node(sq), Node::PowI(x, 2));
+    }
+
+    #[test]
+    fn errors_keep_reference_order() {
+        let mut g = Graph::new();
+        let x = g.x(0);
+        let zero = g.constant(0.0);
+        let one = g.constant(1.0);
+        let s = g.unary(UnaryOp::Sqrt, x); // may fail
+        let e = g.binary(BinaryOp::Div, one, zero); // always fails
+        // e + s: s (right) is evaluated first; its error wins where it fails.
+        let sum = g.binary(BinaryOp::Add, e, s);
+        assert_eq!(*g.node(sum), Node::Check(s, e));
+        // s + e: e evaluated first, always fails.
+        let sum2 = g.binary(BinaryOp::Add, s, e);
+        assert_eq!(sum2, e);
+    }
+
+    #[test]
+    fn tape_drops_dead_nodes() {
+        let mut g = Graph::new();
+        let x = g.x(0);
+        let y = g.x(1);
+        let _dead = g.unary(UnaryOp::Sin, y);
+        let c = g.constant(2.0);
+        let f = g.binary(BinaryOp::Mul, x, c);
+        let t = g.tape(&[f]);
+        assert_eq!(t.len(), 3);
+        assert_eq!(t.outputs, vec![NodeId(2)]);
+        assert_eq!(t.x_slots(), 1);
+    }
+}
