@@ -1,1 +1,68 @@
-fn main() {}
+//! `frep`: the command line of the frep FRep modelling system.
+
+mod eval;
+mod format;
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use anyhow::Context;
+use clap::{Parser, Subcommand};
+use frep_core::{CompileOptions, Model};
+
+#[derive(Parser)]
+#[command(name = "frep", version, about = "FRep / HyperFun modelling from the command line")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Evaluate a model at points read from standard input, one per line:
+    /// `x y z` followed by the model's a[] values when it takes any.
+    Eval {
+        /// The HyperFun model (.hf).
+        model: PathBuf,
+        /// The body to evaluate (default: my_model, else the first).
+        #[arg(long)]
+        body: Option<String>,
+    },
+    /// Check a model: print its diagnostics, or a summary.
+    Check {
+        /// The HyperFun model (.hf).
+        model: PathBuf,
+        /// The body to compile (default: my_model, else the first).
+        #[arg(long)]
+        body: Option<String>,
+    },
+}
+
+/// Reads and compiles a model; a model error is printed with its source line
+/// and caret and turned into exit status 1.
+pub(crate) fn load(path: &Path, body: Option<String>) -> anyhow::Result<Result<(String, Model), String>> {
+    let source = std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let opts = CompileOptions {
+        body,
+        ..Default::default()
+    };
+    Ok(match Model::compile_with(&source, &opts) {
+        Ok(m) => Ok((source, m)),
+        Err(d) => Err(d.render(&source, Some(&path.display().to_string()))),
+    })
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Eval { model, body } => eval::run(&model, body),
+        Command::Check { model, body } => eval::check(&model, body),
+    };
+    match result {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("frep: {e:#}");
+            ExitCode::from(2)
+        }
+    }
+}

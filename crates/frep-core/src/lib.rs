@@ -10,11 +10,16 @@
 #![warn(missing_docs)]
 
 pub mod ast;
+pub mod compile;
 pub mod diag;
 pub mod eval;
 pub mod graph;
+pub mod library;
 pub mod ops;
+pub mod parser;
 
 pub use diag::{Diagnostic, Span};
 pub use graph::{Graph, Node, NodeId, Tape};
 pub use ops::EvalError;
+pub use compile::{CompileOptions, Model};
+pub use eval::{Inputs, PointEval};

@@ -39,3 +39,6 @@ impl Inputs {
             .unwrap_or(0.0)
     }
 }
+
+pub mod point;
+pub use point::PointEval;
