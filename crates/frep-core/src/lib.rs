@@ -13,6 +13,7 @@ pub mod ast;
 pub mod diag;
 pub mod eval;
 pub mod graph;
+pub mod library;
 pub mod ops;
 
 pub use diag::{Diagnostic, Span};
