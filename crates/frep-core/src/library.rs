@@ -31,6 +31,13 @@
 //! (`tan` as `sin/cos` where `|cos| < 1e-6`, a value within a few ulps of
 //! libm's; `log` as NaN / `-inf` outside its domain, like C's).
 //!
+//! The convolution closed forms were checked against quadrature of the Cauchy
+//! kernel `1 / (1 + S²r²)²` (see the tests): `hfConvLine`/`hfConvCurve`
+//! integrate it along the segment's length, `hfConvArc` over the arc's
+//! *angle* (not its length: `r` times smaller), and `hfConvTriangle` /
+//! `hfConvMesh` give `S³` times its area integral. `hfConvArc` is singular
+//! (NaN) where the point's local x coordinate is 0, as in C.
+//!
 //! ## Coverage of the reference function table (`int_global.c`)
 //! Implemented: every entry of SPEC §4.1–4.3 (`hfSphere`, `hfEllipsoid`,
 //! `hfTorusX/Y/Z`, `hfEllCylX/Y/Z`, `hfCylinderX/Y/Z`, `hfBlock`,
