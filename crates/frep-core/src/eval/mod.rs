@@ -39,3 +39,8 @@ impl Inputs {
             .unwrap_or(0.0)
     }
 }
+
+pub mod interval;
+
+#[cfg(test)]
+pub(crate) mod testutil;
