@@ -40,5 +40,9 @@ impl Inputs {
     }
 }
 
+pub mod interval;
 pub mod point;
 pub use point::PointEval;
+
+#[cfg(test)]
+pub(crate) mod testutil;
