@@ -13,8 +13,11 @@ pub mod ast;
 pub mod diag;
 pub mod eval;
 pub mod graph;
+pub mod lexer;
 pub mod ops;
+pub mod parser;
 
 pub use diag::{Diagnostic, Span};
 pub use graph::{Graph, Node, NodeId, Tape};
 pub use ops::EvalError;
+pub use parser::{parse, parse_with, ParseLimits};
