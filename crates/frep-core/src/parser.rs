@@ -20,6 +20,8 @@
 //! are bounded by [`ParseLimits::max_depth`]: consumers may walk any tree it
 //! returns recursively without overflowing the stack.
 
+use std::collections::HashMap;
+
 use crate::ast::{ArrayDecl, BinaryOp, Body, Expr, Ident, Program, Size, Stmt, UnaryOp};
 use crate::diag::{Diagnostic, Span};
 use crate::lexer::{Lexer, Token, TokenKind};
@@ -109,6 +111,8 @@ struct Parser<'a> {
     prev: Span,
     depth: usize,
     max_depth: usize,
+    /// Names of the bodies parsed so far.
+    body_names: HashMap<String, Span>,
 }
 
 fn relop(kind: &TokenKind) -> Option<BinaryOp> {
@@ -163,6 +167,7 @@ impl<'a> Parser<'a> {
             prev: Span::default(),
             depth: 0,
             max_depth: limits.max_depth,
+            body_names: HashMap::new(),
         }
     }
 
@@ -321,16 +326,6 @@ impl<'a> Parser<'a> {
                 }
             }
             let body = self.body()?;
-            if let Some(prev) = bodies.iter().find(|b| b.name.name == body.name.name) {
-                return err(Diagnostic::new(
-                    body.name.span,
-                    format!(
-                        "body name `{}` is not unique (already defined at line {}, column {})",
-                        body.name.name, prev.name.span.line, prev.name.span.col
-                    ),
-                )
-                .expected("a new body name"));
-            }
             bodies.push(body);
         }
         if bodies.is_empty() {
@@ -376,6 +371,17 @@ impl<'a> Parser<'a> {
 
     fn body(&mut self) -> PResult<Body> {
         let name = self.ident("a body name")?;
+        if let Some(prev) = self.body_names.get(&name.name) {
+            return err(Diagnostic::new(
+                name.span,
+                format!(
+                    "body name `{}` is not unique (already defined at line {}, column {})",
+                    name.name, prev.line, prev.col
+                ),
+            )
+            .expected("a new body name"));
+        }
+        self.body_names.insert(name.name.clone(), name.span);
         self.expect(&TokenKind::LParen, "`(` after the body name")?;
         let x_size = self.header_array(TokenKind::X, "x")?;
         self.expect(&TokenKind::Comma, "`,`")?;

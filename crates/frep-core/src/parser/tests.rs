@@ -511,3 +511,22 @@ fn nesting_at_the_limit_fits_a_small_stack() {
         .expect("spawn");
     assert!(handle.join().is_ok());
 }
+
+#[test]
+fn many_bodies_and_long_inputs_are_linear() {
+    // 50k tiny bodies: the uniqueness check must not be quadratic.
+    let mut src = String::new();
+    for i in 0..50_000 {
+        src.push_str(&format!("b{i}(x[1],a[1]){{b{i}=1;}}\n"));
+    }
+    let t = std::time::Instant::now();
+    assert_eq!(parse(&src).map(|p| p.bodies.len()), Ok(50_000));
+    assert!(t.elapsed().as_secs() < 20);
+    // A long comment and a long statement list.
+    let src = model(&format!(
+        "-- {}\n{}m = t;",
+        "c".repeat(1 << 20),
+        "t = 1;".repeat(100_000)
+    ));
+    assert!(parse(&src).is_ok());
+}
