@@ -12,7 +12,18 @@
 //!   boolean term only, and a term starting with `(` is a parenthesised
 //!   *boolean* expression (so `if (x[1]+1)*2 > 0 then` is an error).
 //! * All `array` declarations precede all statements; the body ends with
-//!   `name = expr;` directly followed by `}`.
+//!   `name = expr;` directly followed by `}` (stored in [`Body::result`],
+//!   not in [`Body::stmts`]). An assignment to the body's name anywhere else
+//!   is an error, as in the reference.
+//! * `x` and `a` are read-only. `s` and the local arrays declared with
+//!   `array` are the only targets of [`Stmt::IndexAssign`] and
+//!   [`Stmt::ArrayLiteral`] (`name = [±c, ...];`), and they are never the
+//!   target of a [`Stmt::Assign`]; any other name assigned is a scalar.
+//!   The number of items of a literal is not checked here.
+//! * In expressions, `x`, `a` and `s` must be indexed, except as a whole call
+//!   argument (`hfSphere(x, c, 1)`), where they are an [`Expr::Ident`]; other
+//!   names may be bare ([`Expr::Ident`]), indexed or called — the compiler
+//!   resolves them.
 //!
 //! The parser stops at the first error and reports it as a [`Diagnostic`]
 //! with line, column, what was found and what was expected. It never
@@ -20,7 +31,7 @@
 //! are bounded by [`ParseLimits::max_depth`]: consumers may walk any tree it
 //! returns recursively without overflowing the stack.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
 use crate::ast::{ArrayDecl, BinaryOp, Body, Expr, Ident, Program, Size, Stmt, UnaryOp};
 use crate::diag::{Diagnostic, Span};
@@ -113,6 +124,8 @@ struct Parser<'a> {
     max_depth: usize,
     /// Names of the bodies parsed so far.
     body_names: HashMap<String, Span>,
+    /// The local arrays declared in the current body.
+    local_arrays: HashSet<String>,
 }
 
 fn relop(kind: &TokenKind) -> Option<BinaryOp> {
@@ -168,6 +181,7 @@ impl<'a> Parser<'a> {
             depth: 0,
             max_depth: limits.max_depth,
             body_names: HashMap::new(),
+            local_arrays: HashSet::new(),
         }
     }
 
@@ -422,6 +436,7 @@ impl<'a> Parser<'a> {
             self.expect(&TokenKind::Semi, "`,` or `;`")?;
         }
 
+        self.local_arrays = arrays.iter().map(|d| d.name.name.clone()).collect();
         let mut stmts = Vec::new();
         let (result_span, result) = loop {
             if let Some(target) = self.result_target(&name) {
@@ -440,32 +455,8 @@ impl<'a> Parser<'a> {
                     "`}`",
                 ));
             }
-            match self.statement(&name, Block::Body, &mut stmts)? {
-                true => {}
-                false => {
-                    return Err(if self.at(&TokenKind::RBrace) {
-                        let span = self.peek().span;
-                        Diagnostic::new(
-                            span,
-                            format!("body `{}` has no result assignment before `}}`", name.name),
-                        )
-                        .expected(format!("`{} = expression;`", name.name))
-                        .into()
-                    } else if self.at(&TokenKind::Array) {
-                        let span = self.peek().span;
-                        Diagnostic::new(
-                            span,
-                            "`array` declarations must come before all statements of the body",
-                        )
-                        .expected(format!("a statement or `{} = expression;`", name.name))
-                        .into()
-                    } else {
-                        self.unexpected(format!(
-                            "a statement or the result assignment `{} = ...;`",
-                            name.name
-                        ))
-                    });
-                }
+            if !self.statement(&name, Block::Body, &mut stmts)? {
+                return Err(self.body_statement_error(&name));
             }
         };
         let close = self.bump(); // the `}` seen above
@@ -480,6 +471,34 @@ impl<'a> Parser<'a> {
             result: *result,
             result_span,
         })
+    }
+
+    /// The error when the current token neither starts a statement nor the
+    /// result assignment at the top level of a body.
+    #[cold]
+    #[inline(never)]
+    fn body_statement_error(&mut self, name: &Ident) -> Box<Diagnostic> {
+        let span = self.peek().span;
+        if self.at(&TokenKind::RBrace) {
+            Diagnostic::new(
+                span,
+                format!("body `{}` has no result assignment before `}}`", name.name),
+            )
+            .expected(format!("`{} = expression;`", name.name))
+            .into()
+        } else if self.at(&TokenKind::Array) {
+            Diagnostic::new(
+                span,
+                "`array` declarations must come before all statements of the body",
+            )
+            .expected(format!("a statement or `{} = expression;`", name.name))
+            .into()
+        } else {
+            self.unexpected(format!(
+                "a statement or the result assignment `{} = ...;`",
+                name.name
+            ))
+        }
     }
 
     /// The span of the current token if it is the body's own name.
@@ -550,7 +569,7 @@ impl<'a> Parser<'a> {
                     name: "s".to_string(),
                     span: t.span,
                 };
-                self.assignment(target, "`[` or `=` after `s`", out)?;
+                self.assignment(target, out)?;
             }
             TokenKind::Ident(n) if *n != body.name => {
                 let t = self.bump();
@@ -559,7 +578,7 @@ impl<'a> Parser<'a> {
                     _ => String::new(),
                 };
                 let target = Ident { name, span: t.span };
-                self.assignment(target, "`=` or `[`", out)?;
+                self.assignment(target, out)?;
             }
             _ => return Ok(false),
         }
@@ -567,9 +586,12 @@ impl<'a> Parser<'a> {
     }
 
     /// After the target name: `= expr;`, `= [list];` or `[index] = expr;`.
-    fn assignment(&mut self, target: Ident, expected: &str, out: &mut Vec<Stmt>) -> PResult<()> {
+    fn assignment(&mut self, target: Ident, out: &mut Vec<Stmt>) -> PResult<()> {
+        // `s` and the declared local arrays take items or whole literals; any
+        // other name is a scalar variable.
+        let is_array = target.name == "s" || self.local_arrays.contains(&target.name);
         let stmt = match self.peek_kind() {
-            TokenKind::LBracket => {
+            TokenKind::LBracket if is_array => {
                 self.bump();
                 let (index, _) = self.expr()?;
                 self.expect(&TokenKind::RBracket, "`]`")?;
@@ -583,7 +605,10 @@ impl<'a> Parser<'a> {
             }
             TokenKind::Assign => {
                 self.bump();
-                if self.at(&TokenKind::LBracket) {
+                if is_array {
+                    if !self.at(&TokenKind::LBracket) {
+                        return Err(self.whole_array_error(&target));
+                    }
                     let (values, span) = self.array_literal()?;
                     Stmt::ArrayLiteral {
                         target,
@@ -591,6 +616,9 @@ impl<'a> Parser<'a> {
                         span,
                     }
                 } else {
+                    if self.at(&TokenKind::LBracket) {
+                        return Err(self.not_an_array_error(&target, "a list"));
+                    }
                     let (value, _) = self.expr()?;
                     Stmt::Assign {
                         target,
@@ -598,11 +626,39 @@ impl<'a> Parser<'a> {
                     }
                 }
             }
-            _ => return Err(self.unexpected(expected)),
+            TokenKind::LBracket => return Err(self.not_an_array_error(&target, "an item")),
+            _ if is_array => return Err(self.unexpected("`[` or `=`")),
+            _ => return Err(self.unexpected("`=`")),
         };
         self.semicolon()?;
         out.push(stmt);
         Ok(())
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn whole_array_error(&mut self, target: &Ident) -> Box<Diagnostic> {
+        let name = &target.name;
+        self.unexpected_msg(
+            format!(
+                " (`{name}` is an array: it is assigned as a whole only from a list of numbers)"
+            ),
+            format!("`[` (e.g. `{name} = [1, 0, 0];`)"),
+        )
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn not_an_array_error(&mut self, target: &Ident, what: &str) -> Box<Diagnostic> {
+        let name = &target.name;
+        Diagnostic::new(
+            target.span,
+            format!("`{name}` is not a declared array: {what} cannot be assigned to it"),
+        )
+        .expected(format!(
+            "an `array {name}[size];` declaration at the start of the body"
+        ))
+        .into()
     }
 
     /// The `;` ending an assignment, with a hint when a condition operator

@@ -404,6 +404,49 @@ fn error_positions_and_expectations() {
         "unexpected `xor`",
         Some("`;`"),
     );
+    // Arrays: only `s` and declared arrays take items and literals.
+    check(
+        &model("t = [1, 2];\nm = 1;"),
+        3,
+        1,
+        "`t` is not a declared array: a list cannot be assigned",
+        Some("an `array t[size];` declaration at the start of the body"),
+    );
+    check(
+        &model("t[1] = 2;\nm = 1;"),
+        3,
+        1,
+        "`t` is not a declared array: an item cannot be assigned",
+        Some("an `array t[size];` declaration at the start of the body"),
+    );
+    check(
+        &model("s = 1;\nm = 1;"),
+        3,
+        5,
+        "`s` is an array",
+        Some("`[` (e.g. `s = [1, 0, 0];`)"),
+    );
+    check(
+        &model("array c[2];\nc = x[1];\nm = 1;"),
+        4,
+        5,
+        "`c` is an array",
+        Some("`[` (e.g. `c = [1, 0, 0];`)"),
+    );
+    check(
+        &model("array c[2];\nc + 1;\nm = 1;"),
+        4,
+        3,
+        "unexpected `+`",
+        Some("`[` or `=`"),
+    );
+    check(
+        &model("t + 1;\nm = 1;"),
+        3,
+        3,
+        "unexpected `+`",
+        Some("`=`"),
+    );
     // Malformed number.
     check(
         &model("m = 1e+;"),
