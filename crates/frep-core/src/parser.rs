@@ -1,4 +1,4 @@
-//! The HyperFun parser (SPEC §2.1, §2.2): source text to [`ast::Program`].
+//! The HyperFun parser (SPEC §2.1, §2.2): source text to [`crate::ast::Program`].
 //!
 //! A hand-written recursive-descent parser that follows the reference
 //! interpreter's grammar (`int_parse_N.c`) exactly, including its quirks:
