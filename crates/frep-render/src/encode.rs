@@ -334,30 +334,52 @@ mod tests {
     #[test]
     #[ignore]
     fn bench_encoders_512() {
-        let img = test_image(512);
-        let mut cases = vec![
-            (ImageFormat::Png, 0u8),
-            (ImageFormat::Jpeg, 50),
-            (ImageFormat::Jpeg, 75),
-            (ImageFormat::Jpeg, 90),
-        ];
-        if cfg!(feature = "webp") {
-            cases.extend([
-                (ImageFormat::Webp, 50),
-                (ImageFormat::Webp, 75),
-                (ImageFormat::Webp, 90),
-            ]);
-        }
-        for (f, q) in cases {
-            let _ = encode(&img, f, q).unwrap();
-            let n = 10;
-            let t = std::time::Instant::now();
-            let mut len = 0;
-            for _ in 0..n {
-                len = encode(&img, f, q).unwrap().len();
+        use crate::synthetic::Spheres;
+        use crate::tiles::cast_tiled;
+        let b = Aabb::new([-1.0; 3], [1.0; 3]);
+        let cam = Camera::orbit(&b, 30.0, 20.0, Some(35.0));
+        let t = std::time::Instant::now();
+        let hits = cast_tiled(&Spheres::lattice_m2(), &cam, 512, 512, 32);
+        let cast_ms = t.elapsed().as_secs_f64() * 1e3;
+        let t = std::time::Instant::now();
+        let lattice = shade(&hits, &Lighting::default());
+        let shade_ms = t.elapsed().as_secs_f64() * 1e3;
+        println!("512x512 100-sphere lattice: cast {cast_ms:.1} ms, shade {shade_ms:.1} ms");
+        let dir = std::env::temp_dir();
+        std::fs::write(
+            dir.join("frep-render-lattice.png"),
+            encode(&lattice, ImageFormat::Png, 0).unwrap(),
+        )
+        .unwrap();
+        for (name, img) in [
+            ("one sphere", test_image(512)),
+            ("100-sphere lattice", lattice),
+        ] {
+            println!("-- {name}");
+            let mut cases = vec![
+                (ImageFormat::Png, 0u8),
+                (ImageFormat::Jpeg, 50),
+                (ImageFormat::Jpeg, 75),
+                (ImageFormat::Jpeg, 90),
+            ];
+            if cfg!(feature = "webp") {
+                cases.extend([
+                    (ImageFormat::Webp, 50),
+                    (ImageFormat::Webp, 75),
+                    (ImageFormat::Webp, 90),
+                ]);
             }
-            let ms = t.elapsed().as_secs_f64() * 1e3 / n as f64;
-            println!("512x512 {f:?} q{q}: {len} bytes, {ms:.2} ms");
+            for (f, q) in cases {
+                let _ = encode(&img, f, q).unwrap();
+                let n = 10;
+                let t = std::time::Instant::now();
+                let mut len = 0;
+                for _ in 0..n {
+                    len = encode(&img, f, q).unwrap().len();
+                }
+                let ms = t.elapsed().as_secs_f64() * 1e3 / n as f64;
+                println!("512x512 {f:?} q{q}: {len} bytes, {ms:.2} ms");
+            }
         }
     }
 }

@@ -2,20 +2,37 @@
 
 use crate::image::HitBuffer;
 
-/// The hit mask of `hits` on a `cols`×`rows` character grid: `#` where the
-/// pixel at the centre of the cell hit the surface, `.` where it did not; one
-/// line per row, each ending with `\n`.
+/// The hit mask of `hits` on a `cols`×`rows` character grid: each cell
+/// covers a block of pixels and is `#` where more than half of them hit the
+/// surface, `.` otherwise (a cell smaller than a pixel uses the pixel under
+/// its centre); one line per row, each ending with `\n`.
 pub fn ascii_mask(hits: &HitBuffer, cols: u32, rows: u32) -> String {
     let mut s = String::with_capacity(((cols + 1) * rows) as usize);
     if hits.width == 0 || hits.height == 0 {
         return s;
     }
+    let span = |i: u32, n: u32, size: u32| {
+        let a = (i as u64 * size as u64 / n as u64) as u32;
+        let b = ((i as u64 + 1) * size as u64 / n as u64) as u32;
+        if b > a {
+            (a, b)
+        } else {
+            let c = (((i as f64 + 0.5) * size as f64 / n as f64) as u32).min(size - 1);
+            (c, c + 1)
+        }
+    };
     for r in 0..rows {
-        let y = (((r as f64 + 0.5) * hits.height as f64 / rows as f64) as u32).min(hits.height - 1);
+        let (y0, y1) = span(r, rows, hits.height);
         for c in 0..cols {
-            let x =
-                (((c as f64 + 0.5) * hits.width as f64 / cols as f64) as u32).min(hits.width - 1);
-            s.push(if hits.get(x, y).is_some() { '#' } else { '.' });
+            let (x0, x1) = span(c, cols, hits.width);
+            let mut inside = 0u64;
+            for y in y0..y1 {
+                for x in x0..x1 {
+                    inside += hits.get(x, y).is_some() as u64;
+                }
+            }
+            let total = (y1 - y0) as u64 * (x1 - x0) as u64;
+            s.push(if 2 * inside > total { '#' } else { '.' });
         }
         s.push('\n');
     }
@@ -48,4 +65,50 @@ mod tests {
              ........\n"
         );
     }
+}
+
+#[cfg(test)]
+mod lattice_tests {
+    use super::*;
+    use crate::camera::{Aabb, Camera};
+    use crate::synthetic::Spheres;
+    use crate::tiles::cast_tiled;
+
+    /// The 100-sphere lattice seen from straight above (orthographic): a 5×5
+    /// pattern of discs, kept as text.
+    #[test]
+    fn lattice_from_above() {
+        let b = Aabb::new([-1.0; 3], [1.0; 3]);
+        let cam = Camera::orbit(&b, 0.0, 90.0, None);
+        let hits = cast_tiled(&Spheres::lattice_m2(), &cam, 96, 96, 16);
+        let mask = ascii_mask(&hits, 24, 24);
+        assert_eq!(mask, GOLDEN);
+    }
+
+    const GOLDEN: &str = "\
+        ........................\n\
+        ........................\n\
+        ........................\n\
+        ........................\n\
+        ........................\n\
+        ........................\n\
+        ......############......\n\
+        ......############......\n\
+        ......##.#.##.#.##......\n\
+        ......############......\n\
+        ......##.#.##.#.##......\n\
+        ......############......\n\
+        ......############......\n\
+        ......##.#.##.#.##......\n\
+        ......############......\n\
+        ......##.#.##.#.##......\n\
+        ......############......\n\
+        ......############......\n\
+        ........................\n\
+        ........................\n\
+        ........................\n\
+        ........................\n\
+        ........................\n\
+        ........................\n\
+    ";
 }

@@ -16,6 +16,22 @@
 //! - [`synthetic`]: an analytic sphere scene for tests and demos.
 //!
 //! Conventions: world z is up; fields are HyperFun's (positive inside).
+//!
+//! The pipeline, with the analytic sphere standing in for the FRep ray caster
+//! (which will implement [`TileCaster`]):
+//!
+//! ```
+//! use frep_render::{cast_tiled, encode, shade, Aabb, Camera, ImageFormat, Lighting};
+//! use frep_render::synthetic::SphereCaster;
+//!
+//! let bounds = Aabb::new([-1.0; 3], [1.0; 3]);
+//! let camera = Camera::orbit(&bounds, 30.0, 20.0, Some(35.0));
+//! let caster = SphereCaster { center: [0.0; 3], radius: 0.8, color: None };
+//! let hits = cast_tiled(&caster, &camera, 64, 48, 16);
+//! let image = shade(&hits, &Lighting::default());
+//! let jpeg = encode(&image, ImageFormat::Jpeg, 75).unwrap();
+//! assert_eq!(&jpeg[..2], &[0xFF, 0xD8]);
+//! ```
 #![warn(missing_docs)]
 
 pub mod camera;

@@ -76,3 +76,56 @@ impl TileCaster for SphereCaster {
         }
     }
 }
+
+/// A [`TileCaster`] that sees a set of spheres (closest hit wins).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Spheres {
+    /// The spheres.
+    pub spheres: Vec<SphereCaster>,
+}
+
+impl Spheres {
+    /// The benchmark model M2 of the notes: 100 spheres of radius 0.2 on a
+    /// 5×5×4 lattice in [-1, 1]³, coloured by position.
+    pub fn lattice_m2() -> Spheres {
+        let mut spheres = Vec::new();
+        for a in 0..5 {
+            for b in 0..5 {
+                for c in 0..4 {
+                    let center = [
+                        -0.72 + 0.36 * a as f64,
+                        -0.72 + 0.36 * b as f64,
+                        -0.54 + 0.36 * c as f64,
+                    ];
+                    let color = [a as f32 / 4.0, b as f32 / 4.0, 0.3 + c as f32 / 5.0];
+                    spheres.push(SphereCaster {
+                        center,
+                        radius: 0.2,
+                        color: Some(color),
+                    });
+                }
+            }
+        }
+        Spheres { spheres }
+    }
+
+    /// The closest hit of `ray`.
+    pub fn hit(&self, ray: &Ray) -> Option<Hit> {
+        self.spheres
+            .iter()
+            .filter_map(|s| ray_sphere(ray, s.center, s.radius, s.color))
+            .min_by(|a, b| a.t.total_cmp(&b.t))
+    }
+}
+
+impl TileCaster for Spheres {
+    fn cast_tile(&self, camera: &Camera, tile: &Tile, out: &mut [Option<Hit>]) {
+        let mut i = 0;
+        for y in tile.y0..tile.y1 {
+            for x in tile.x0..tile.x1 {
+                out[i] = self.hit(&camera.ray(x, y, tile.width, tile.height));
+                i += 1;
+            }
+        }
+    }
+}
