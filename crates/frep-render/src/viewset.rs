@@ -154,6 +154,21 @@ pub struct ViewSet {
     pub sheet: Image,
 }
 
+impl ViewSet {
+    /// The same views to be written in another format and quality (file
+    /// names in the index follow the format).
+    pub fn with_format(mut self, format: ImageFormat, quality: u8) -> ViewSet {
+        let ext = format.extension();
+        self.index.format = format;
+        self.index.quality = quality;
+        self.index.sheet.file = format!("sheet.{ext}");
+        for v in &mut self.index.views {
+            v.file = format!("view_{:03}.{ext}", v.index);
+        }
+        self
+    }
+}
+
 /// The cameras of a view set: for each ring (pitch) and view (yaw), ring-major.
 pub fn view_cameras(bounds: &Aabb, opts: &ViewSetOptions) -> Vec<(u32, f64, f64, Camera)> {
     let rings: Vec<f64> = if opts.elevations.is_empty() {
@@ -341,6 +356,10 @@ mod tests {
 
         let dir = temp_dir("viewset");
         write_view_set(&dir, &set).unwrap();
+        let jpeg = set.clone().with_format(ImageFormat::Jpeg, 80);
+        assert_eq!(jpeg.index.views[3].file, "view_003.jpg");
+        assert_eq!(jpeg.index.sheet.file, "sheet.jpg");
+        assert_eq!(jpeg.index.quality, 80);
         let json = std::fs::read_to_string(dir.join("index.json")).unwrap();
         let back: ViewSetIndex = serde_json::from_str(&json).unwrap();
         // (serde_json's default float parsing may differ in the last bit.)
@@ -394,5 +413,47 @@ mod tests {
             set.index.views[0].camera.projection,
             Projection::Orthographic { .. }
         ));
+    }
+
+    /// A 12-view 256² turntable of the 100-sphere lattice in each format
+    /// (run with `cargo test -p frep-render --release -- --ignored --nocapture`).
+    #[test]
+    #[ignore]
+    fn bench_view_set_12x256() {
+        use crate::synthetic::Spheres;
+        use crate::tiles::cast_tiled;
+        let b = Aabb::new([-1.0; 3], [1.0; 3]);
+        let scene = Spheres::lattice_m2();
+        let t = std::time::Instant::now();
+        let opts = ViewSetOptions::default();
+        let set = render_view_set(&b, &opts, |cam, w, h| {
+            shade(&cast_tiled(&scene, cam, w, h, 32), &Lighting::default())
+        });
+        println!(
+            "render 12 views 256x256: {:.0} ms",
+            t.elapsed().as_secs_f64() * 1e3
+        );
+        for (format, quality) in [
+            (ImageFormat::Jpeg, 75),
+            (ImageFormat::Webp, 75),
+            (ImageFormat::Png, 0),
+        ] {
+            if format == ImageFormat::Webp && !cfg!(feature = "webp") {
+                continue;
+            }
+            let set = set.clone().with_format(format, quality);
+            let dir = temp_dir(&format!("bench-{}", format.extension()));
+            let t = std::time::Instant::now();
+            write_view_set(&dir, &set).unwrap();
+            let ms = t.elapsed().as_secs_f64() * 1e3;
+            let size = |f: &str| std::fs::metadata(dir.join(f)).unwrap().len();
+            let views: u64 = set.index.views.iter().map(|v| size(&v.file)).sum();
+            println!(
+                "{format:?} q{quality}: views {views} B, sheet {} B, index {} B, write {ms:.0} ms",
+                size(&format!("sheet.{}", format.extension())),
+                size("index.json")
+            );
+            std::fs::remove_dir_all(&dir).unwrap();
+        }
     }
 }
