@@ -688,3 +688,40 @@ fn analytic_gradients() {
         }
     );
 }
+
+#[test]
+fn uniform_cache_sees_signed_zero_and_changes() {
+    let mut g = Graph::new();
+    let x = g.x(0);
+    let a = g.param(0);
+    let one = g.constant(1.0);
+    let inv = g.binary(BinaryOp::DivF, one, a);
+    let f = g.binary(BinaryOp::Add, x, inv);
+    let tape = g.tape(&[f]);
+    let mut be = BatchEval::new(&tape);
+    let mut out = [0.0];
+    be.eval(
+        &[0.0],
+        &[0.0],
+        &[0.0],
+        &Inputs::with_params(&[0.0]),
+        &mut out,
+    );
+    assert_eq!(out[0], f64::INFINITY);
+    be.eval(
+        &[0.0],
+        &[0.0],
+        &[0.0],
+        &Inputs::with_params(&[-0.0]),
+        &mut out,
+    );
+    assert_eq!(out[0], f64::NEG_INFINITY);
+    be.eval(
+        &[0.0],
+        &[0.0],
+        &[0.0],
+        &Inputs::with_params(&[4.0]),
+        &mut out,
+    );
+    assert_eq!(out[0], 0.25);
+}

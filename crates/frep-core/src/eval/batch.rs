@@ -254,8 +254,15 @@ impl BatchEval {
     }
 
     fn update_uniforms(&mut self, inputs: &Inputs) {
-        if self.uni_inputs.as_ref() == Some(inputs) {
-            return;
+        // Bitwise comparison: -0.0 and 0.0 are different inputs, a NaN the
+        // same as itself.
+        let same = |a: &[f64], b: &[f64]| {
+            a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
+        };
+        if let Some(prev) = &self.uni_inputs {
+            if same(&prev.params, &inputs.params) && same(&prev.extra_x, &inputs.extra_x) {
+                return;
+            }
         }
         for i in 0..self.uni_nodes.len() {
             let u = &self.uni;
