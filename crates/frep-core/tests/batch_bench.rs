@@ -188,3 +188,43 @@ fn throughput() {
         );
     }
 }
+
+#[test]
+#[ignore = "benchmark; run in release with --ignored --nocapture"]
+fn vector_math_throughput() {
+    use frep_core::eval::simd_math as sm;
+    let n = 1 << 16;
+    let xs: Vec<f64> = (0..n)
+        .map(|i| (i as f64 * 0.618_033_988_7) % 20.0 - 10.0)
+        .collect();
+    let mut out = vec![0.0; n];
+    let reps = 100;
+    let time = |f: &mut dyn FnMut(&[f64], &mut [f64]), out: &mut [f64]| {
+        let t = Instant::now();
+        for _ in 0..reps {
+            f(&xs, out);
+        }
+        (reps * n) as f64 / t.elapsed().as_secs_f64() / 1e6
+    };
+    type SliceFn = fn(&[f64], &mut [f64]);
+    type Row = (&'static str, SliceFn, fn(f64) -> f64);
+    let rows: [Row; 5] = [
+        ("sin", sm::sin_slice, f64::sin),
+        ("cos", sm::cos_slice, f64::cos),
+        ("exp", |a, o| sm::map(a, o, sm::exp), f64::exp),
+        (
+            "ln",
+            |a, o| sm::map(a, o, |x| sm::ln(x.abs())),
+            |x| x.abs().ln(),
+        ),
+        ("atan", |a, o| sm::map(a, o, sm::atan), f64::atan),
+    ];
+    for (name, vec_f, std_f) in rows {
+        let v = time(&mut |a, o| vec_f(a, o), &mut out);
+        let s = time(&mut |a, o| sm::map(a, o, std_f), &mut out);
+        eprintln!(
+            "{name}: vectorised {v:.0} M/s, std per lane {s:.0} M/s ({:.1}x)",
+            v / s
+        );
+    }
+}
