@@ -1,0 +1,16 @@
+//! Triangle meshes for FRep models: the [`Mesh`] type, checks that tests of the polygonizers
+//! rely on ([`Mesh::topology`], [`Mesh::self_intersections`], [`Mesh::max_distance_to`]) and
+//! file formats ([`export`]).
+//!
+//! Invariant: only the [`export`] module does I/O; the mesh type and its checks are pure
+//! computation, so that the polygonizers that will live in this crate stay free of I/O.
+#![warn(missing_docs)]
+
+pub mod export;
+mod intersect;
+mod mesh;
+mod topology;
+
+pub use export::Format;
+pub use mesh::{InvalidMesh, Mesh};
+pub use topology::Topology;
