@@ -111,7 +111,13 @@ fn strictly_inside_wedge(u: [f64; 2], v: [f64; 2], d: [f64; 2]) -> bool {
 /// Whether triangles `(v, a, b)` and `(v, c, d)` meet anywhere but at `v`.
 fn meet_beyond_vertex(v: V, a: V, b: V, c: V, d: V) -> bool {
     let n = cross(sub(a, v), sub(b, v));
-    if orient(v, a, b, c) == 0.0 && orient(v, a, b, d) == 0.0 {
+    let (oc, od) = (orient(v, a, b, c), orient(v, a, b, d));
+    // One triangle strictly on one side of the other's plane (but for `v`): they meet only at `v`.
+    let strictly_one_side = |x: f64, y: f64| (x > 0.0 && y > 0.0) || (x < 0.0 && y < 0.0);
+    if strictly_one_side(oc, od) || strictly_one_side(orient(v, c, d, a), orient(v, c, d, b)) {
+        return false;
+    }
+    if oc == 0.0 && od == 0.0 {
         // Coplanar: the triangles overlap near `v` exactly when their wedges at `v` overlap,
         // and otherwise meet only if the far edges cross the other triangle.
         let pr = project(n);
@@ -140,11 +146,17 @@ fn meet_beyond_vertex(v: V, a: V, b: V, c: V, d: V) -> bool {
 /// Whether two distinct triangles, given by index and position, intersect other than along
 /// what they share.
 fn pair_intersects(i1: [u32; 3], t1: [V; 3], i2: [u32; 3], t2: [V; 3]) -> bool {
-    let shared: Vec<(usize, usize)> = (0..3)
-        .flat_map(|a| (0..3).map(move |b| (a, b)))
-        .filter(|&(a, b)| i1[a] == i2[b])
-        .collect();
-    match shared.len() {
+    let mut shared = [(0usize, 0usize); 3];
+    let mut count = 0;
+    for (a, &x) in i1.iter().enumerate() {
+        for (b, &y) in i2.iter().enumerate() {
+            if x == y && count < 3 {
+                shared[count] = (a, b);
+                count += 1;
+            }
+        }
+    }
+    match count {
         0 => triangles_meet(t1, t2),
         1 => {
             let (a, b) = shared[0];

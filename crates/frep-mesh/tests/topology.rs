@@ -227,3 +227,20 @@ fn validate_reports_bad_meshes() {
     m.triangles.push([0, 1, 8]);
     assert!(m.validate().is_err());
 }
+
+#[test]
+fn checks_scale_to_200k_triangles() {
+    // 200,000 triangles; timings are printed for the record (`-- --nocapture`).
+    let m = torus(2.0, 0.7, 500, 200);
+    let start = std::time::Instant::now();
+    let t = m.topology();
+    let topology = start.elapsed();
+    let start = std::time::Instant::now();
+    assert_eq!(m.self_intersections(1), 0);
+    let intersections = start.elapsed();
+    println!(
+        "{} triangles: topology {topology:?}, self-intersections {intersections:?}",
+        m.triangles.len()
+    );
+    assert!(t.is_closed_manifold() && t.euler_characteristic() == 0);
+}
