@@ -3,7 +3,7 @@
 //! The benchmark models M1–M4 are defined once, in
 //! `shared/notes/rendering-and-meshing.md`; their HyperFun sources live in the
 //! workspace's `examples/` folder (`m1_sphere.hf` … `m4_rblend10.hf`), and
-//! [`anchors`] builds the same fields in fidget (behind the `anchors` feature,
+//! the `anchors` module builds the same fields in fidget (behind the `anchors` feature,
 //! so that ordinary workspace builds do not compile fidget).
 
 #![warn(missing_docs)]
