@@ -1,7 +1,9 @@
 //! `frep`: the command line of the frep FRep modelling system.
 
+mod bounds;
 mod eval;
 mod format;
+mod render;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -40,6 +42,10 @@ enum Command {
         #[arg(long)]
         body: Option<String>,
     },
+    /// Render an image of a model (or, with --views, a turntable view set).
+    Render(render::RenderArgs),
+    /// Sample a model on a grid: a PNG slice stack and an 8-bit 3D texture.
+    Slices(render::SlicesArgs),
 }
 
 /// Reads and compiles a model; a model error is printed with its source line
@@ -65,6 +71,8 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Eval { model, body } => eval::run(&model, body),
         Command::Check { model, body } => eval::check(&model, body),
+        Command::Render(args) => render::render(args),
+        Command::Slices(args) => render::slices(args),
     };
     match result {
         Ok(code) => code,
