@@ -1,6 +1,6 @@
 //! Images, hit buffers (what the ray caster produces) and shading.
 
-use crate::camera::{add, dot, normalize, scale, sub, Camera};
+use crate::camera::{add, dot, normalize, scale, sub, Camera, Projection};
 
 /// An 8-bit sRGB image with alpha, rows top to bottom.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -295,7 +295,6 @@ pub fn shade(hits: &HitBuffer, lighting: &Lighting) -> Image {
 pub struct Shader {
     camera: Camera,
     lighting: Lighting,
-    width: u32,
     height: u32,
     key: [f64; 3],
     fill: [f64; 3],
@@ -306,6 +305,7 @@ pub struct Shader {
 impl Shader {
     /// A shader for a `width`×`height` image seen by `camera`.
     pub fn new(camera: &Camera, lighting: &Lighting, width: u32, height: u32) -> Shader {
+        let _ = width;
         let cam = camera;
         let to_world = |d: [f64; 3]| {
             normalize(add(
@@ -316,7 +316,6 @@ impl Shader {
         Shader {
             camera: *camera,
             lighting: lighting.clone(),
-            width,
             height,
             key: to_world(lighting.key.dir),
             fill: to_world(lighting.fill.dir),
@@ -330,7 +329,10 @@ impl Shader {
     pub fn pixel(&self, x: u32, y: u32, hit: Option<&Hit>, ao: Option<f32>) -> [u8; 3] {
         let lighting = &self.lighting;
         let cam = &self.camera;
-        let (w, h) = (self.width, self.height);
+        // The pixel column does not matter (yet): the view direction comes
+        // from the hit.
+        let _ = x;
+        let h = self.height;
         let encode = |c: f32| {
             if lighting.srgb {
                 linear_to_srgb(c)
@@ -349,7 +351,12 @@ impl Shader {
             });
         };
         let (key, fill, rim) = (self.key, self.fill, self.rim);
-        let view = normalize(sub(cam.ray(x, y, w, h).origin, hit.position));
+        // The direction back along the pixel's ray (`cam.ray(x, y).origin`
+        // is the eye, or for orthographic views a point straight back).
+        let view = match cam.projection {
+            Projection::Perspective { .. } => normalize(sub(cam.eye, hit.position)),
+            Projection::Orthographic { .. } => scale(cam.forward, -1.0),
+        };
         let view = if view.iter().all(|v| v.is_finite()) && dot(view, view) > 0.5 {
             view
         } else {

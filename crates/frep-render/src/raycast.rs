@@ -53,7 +53,7 @@ pub const LEAF: u32 = 8;
 
 /// Bisection steps that refine a bracketed crossing (then one secant step):
 /// the bracket shrinks to `1/2^REFINE` of a sampling step.
-const REFINE: usize = 10;
+const REFINE: usize = 8;
 
 /// The largest image the renderer accepts: 16 384 pixels a side and 64
 /// megapixels in all.
@@ -94,6 +94,9 @@ pub struct ModelCaster {
     /// Depth of the per-ray interval bisection below one sampling step for
     /// rays whose samples miss in an ambiguous leaf (default 3: 1/8 step).
     pub fallback_depth: u32,
+    /// Leaves are sampled once their depth slab is at most this many pixel
+    /// footprints deep (deeper ones are split by interval bisection first).
+    pub leaf_depth_px: f64,
     stats: AtomicStats,
 }
 
@@ -109,6 +112,7 @@ impl ModelCaster {
             cancel: None,
             step_px: 1.0,
             fallback_depth: 3,
+            leaf_depth_px: 16.0,
             stats: AtomicStats::default(),
         }
     }
@@ -123,6 +127,7 @@ impl ModelCaster {
             cancel: None,
             step_px: 1.0,
             fallback_depth: 3,
+            leaf_depth_px: 16.0,
             stats: AtomicStats::default(),
         }
     }
@@ -446,6 +451,12 @@ impl<'a> TileCtx<'a> {
                 self.node(ev, q, za, zm);
                 self.node(ev, q, zm, zb);
             }
+        } else if zb - za > self.caster.leaf_depth_px * self.footprint(za) {
+            // Thin the leaf's slab further: interval evaluations on short
+            // tapes are cheaper than sampling every ray of the leaf.
+            let zm = 0.5 * (za + zb);
+            self.node(ev, rect, za, zm);
+            self.node(ev, rect, zm, zb);
         } else {
             self.leaf(ev, rect, za, zb);
         }
@@ -606,7 +617,31 @@ impl<'a> TileCtx<'a> {
                     f_lo: v[k - 1],
                     f_hi: v[k],
                 }),
-                None => missed.push((i, lo, hi)),
+                None => {
+                    // No sample inside: a feature thinner than a step can
+                    // only hide around a local maximum of the samples
+                    // (NaN counting as -inf); search there.
+                    let g = |k: usize| {
+                        if v[k].is_nan() {
+                            f64::NEG_INFINITY
+                        } else {
+                            v[k]
+                        }
+                    };
+                    for k in 0..=n {
+                        let left = if k > 0 { g(k - 1) } else { f64::NEG_INFINITY };
+                        let right = if k < n { g(k + 1) } else { f64::NEG_INFINITY };
+                        let c = g(k);
+                        if c > f64::NEG_INFINITY
+                            && c >= left
+                            && c >= right
+                            && (c > left || c > right)
+                        {
+                            missed.push((i, z(k.saturating_sub(1)), z((k + 1).min(n))));
+                            break;
+                        }
+                    }
+                }
             }
         }
         // Rays whose samples saw no crossing: interval bisection along the
