@@ -31,10 +31,17 @@ pub fn run(path: &Path, body: Option<String>) -> anyhow::Result<ExitCode> {
         }
         let nums: Vec<f64> = line
             .split_whitespace()
-            .map(|t| t.parse::<f64>().with_context(|| format!("line {}: `{t}` is not a number", n + 1)))
+            .map(|t| {
+                t.parse::<f64>()
+                    .with_context(|| format!("line {}: `{t}` is not a number", n + 1))
+            })
             .collect::<Result<_, _>>()?;
         if nums.len() < 3 {
-            bail!("line {}: expected `x y z` and then the {} parameter(s) a[]", n + 1, model.a_dim);
+            bail!(
+                "line {}: expected `x y z` and then the {} parameter(s) a[]",
+                n + 1,
+                model.a_dim
+            );
         }
         if nums.len() > 3 + model.a_dim {
             bail!(
@@ -75,7 +82,11 @@ pub fn check(path: &Path, body: Option<String>) -> anyhow::Result<ExitCode> {
     };
     let tape = model.tape();
     println!("{}: ok", path.display());
-    println!("  bodies:     {} ({})", model.bodies.len(), model.bodies.join(", "));
+    println!(
+        "  bodies:     {} ({})",
+        model.bodies.len(),
+        model.bodies.join(", ")
+    );
     println!("  compiled:   {}", model.body);
     println!(
         "  inputs:     x[{}], a[{}]{}",
@@ -87,7 +98,11 @@ pub fn check(path: &Path, body: Option<String>) -> anyhow::Result<ExitCode> {
             String::new()
         }
     );
-    println!("  graph:      {} nodes ({} in the value's tape)", model.graph.len(), tape.len());
+    println!(
+        "  graph:      {} nodes ({} in the value's tape)",
+        model.graph.len(),
+        tape.len()
+    );
     println!("  parameters: {}", model.a_dim);
     Ok(ExitCode::SUCCESS)
 }

@@ -11,7 +11,11 @@ use clap::{Parser, Subcommand};
 use frep_core::{CompileOptions, Model};
 
 #[derive(Parser)]
-#[command(name = "frep", version, about = "FRep / HyperFun modelling from the command line")]
+#[command(
+    name = "frep",
+    version,
+    about = "FRep / HyperFun modelling from the command line"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -40,8 +44,12 @@ enum Command {
 
 /// Reads and compiles a model; a model error is printed with its source line
 /// and caret and turned into exit status 1.
-pub(crate) fn load(path: &Path, body: Option<String>) -> anyhow::Result<Result<(String, Model), String>> {
-    let source = std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
+pub(crate) fn load(
+    path: &Path,
+    body: Option<String>,
+) -> anyhow::Result<Result<(String, Model), String>> {
+    let source =
+        std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
     let opts = CompileOptions {
         body,
         ..Default::default()

@@ -84,7 +84,10 @@ impl Diagnostic {
             .rfind('\n')
             .map_or(0, |i| i + 1);
         let line_end = line_start + line_text.len();
-        let end = self.span.end.clamp(self.span.start, line_end.max(self.span.start));
+        let end = self
+            .span
+            .end
+            .clamp(self.span.start, line_end.max(self.span.start));
         let width = source
             .get(self.span.start.min(source.len())..end.min(source.len()))
             .map_or(1, |s| s.chars().count().max(1));

@@ -204,6 +204,7 @@ impl Graph {
         self.intern(Node::Error(e))
     }
 
+    #[allow(clippy::wrong_self_convention)]
     fn from_result(&mut self, r: Result<f64, EvalError>) -> NodeId {
         match r {
             Ok(v) => self.constant(v),
@@ -247,6 +248,7 @@ impl Graph {
     }
 
     /// `op(a, b)`, folded.
+    #[allow(clippy::redundant_guards)]
     pub fn binary(&mut self, op: BinaryOp, a: NodeId, b: NodeId) -> NodeId {
         if let Some(e) = self.fold_errors(&[b, a]) {
             return e;
@@ -259,7 +261,9 @@ impl Graph {
         match (op, ca, cb) {
             (BinaryOp::Add, _, Some(z)) | (BinaryOp::Sub, _, Some(z)) if z == 0.0 => return a,
             (BinaryOp::Add, Some(z), _) if z == 0.0 => return b,
-            (BinaryOp::Mul, _, Some(o)) | (BinaryOp::Div, _, Some(o)) | (BinaryOp::DivF, _, Some(o))
+            (BinaryOp::Mul, _, Some(o))
+            | (BinaryOp::Div, _, Some(o))
+            | (BinaryOp::DivF, _, Some(o))
                 if o == 1.0 =>
             {
                 return a
@@ -267,7 +271,8 @@ impl Graph {
             (BinaryOp::Mul, Some(o), _) if o == 1.0 => return b,
             (BinaryOp::Sub, Some(z), _) if z == 0.0 => return self.unary(UnaryOp::Neg, b),
             (BinaryOp::Pow, _, Some(e))
-                if e - e.floor() < ops::EPS && ops::round_half_up(e.abs()) <= f64::from(i32::MAX) =>
+                if e - e.floor() < ops::EPS
+                    && ops::round_half_up(e.abs()) <= f64::from(i32::MAX) =>
             {
                 // The reference's "integer power": |e| rounded half up, inverted
                 // for e < 0. For such e, `e <= EPS` (an error at |b| < EPS)
@@ -464,7 +469,7 @@ mod tests {
         let one = g.constant(1.0);
         let s = g.unary(UnaryOp::Sqrt, x); // may fail
         let e = g.binary(BinaryOp::Div, one, zero); // always fails
-        // e + s: s (right) is evaluated first; its error wins where it fails.
+                                                    // e + s: s (right) is evaluated first; its error wins where it fails.
         let sum = g.binary(BinaryOp::Add, e, s);
         assert_eq!(*g.node(sum), Node::Check(s, e));
         // s + e: e evaluated first, always fails.

@@ -18,8 +18,8 @@ pub mod library;
 pub mod ops;
 pub mod parser;
 
+pub use compile::{CompileOptions, Model};
 pub use diag::{Diagnostic, Span};
+pub use eval::{Inputs, PointEval};
 pub use graph::{Graph, Node, NodeId, Tape};
 pub use ops::EvalError;
-pub use compile::{CompileOptions, Model};
-pub use eval::{Inputs, PointEval};

@@ -443,6 +443,7 @@ pub const POW_LOOP_MAX: f64 = 4096.0;
 
 /// Applies a unary operation at a point.
 #[inline]
+#[allow(clippy::neg_cmp_op_on_partial_ord)]
 pub fn unary(op: UnaryOp, a: f64) -> Result<f64, EvalError> {
     Ok(match op {
         UnaryOp::Neg => -a,
@@ -561,6 +562,7 @@ pub fn pow_int(b: f64, n: i32) -> Result<f64, EvalError> {
 }
 
 #[cfg(test)]
+#[allow(clippy::excessive_precision)]
 mod tests {
     use super::*;
 
@@ -578,7 +580,10 @@ mod tests {
         assert_eq!(unary(UnaryOp::Trunc, -2.7).unwrap(), -2.0);
         assert_eq!(unary(UnaryOp::Frac, -2.7).unwrap(), -0.70000000000000018);
         assert_eq!(unary(UnaryOp::Logd, 100.0).unwrap(), 2.0);
-        assert_eq!(binary(BinaryOp::Div, 1.0, 1e-7), Err(EvalError::DivisionByZero));
+        assert_eq!(
+            binary(BinaryOp::Div, 1.0, 1e-7),
+            Err(EvalError::DivisionByZero)
+        );
         assert_eq!(unary(UnaryOp::Sqrt, -1e-10), Err(EvalError::NegativeSqrt));
         assert_eq!(binary(BinaryOp::Eq, 2.0000001, 2.0).unwrap(), 1.0);
         assert_eq!(round_half_up(2.5), 3.0);
@@ -598,8 +603,15 @@ mod tests {
                 for _ in 0..n {
                     v *= b;
                 }
-                assert_eq!(pow_repeated(b, n as f64, false).to_bits(), v.to_bits(), "{b}^{n}");
-                assert_eq!(pow_repeated(b, n as f64, true).to_bits(), (1.0 / v).to_bits());
+                assert_eq!(
+                    pow_repeated(b, n as f64, false).to_bits(),
+                    v.to_bits(),
+                    "{b}^{n}"
+                );
+                assert_eq!(
+                    pow_repeated(b, n as f64, true).to_bits(),
+                    (1.0 / v).to_bits()
+                );
             }
         }
         // Huge exponents finish quickly.

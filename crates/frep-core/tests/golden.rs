@@ -9,7 +9,11 @@ use frep_core::{CompileOptions, Inputs, Model, PointEval};
 #[test]
 fn point_evaluator_reproduces_every_golden_file() {
     let models = golden_models();
-    assert!(models.len() >= 48, "only {} golden models found", models.len());
+    assert!(
+        models.len() >= 48,
+        "only {} golden models found",
+        models.len()
+    );
     let mut failures = Vec::new();
     let mut checked = 0;
     for (src, golden) in &models {
@@ -20,7 +24,11 @@ fn point_evaluator_reproduces_every_golden_file() {
         let model = match Model::compile_with(src, &opts) {
             Ok(m) => m,
             Err(d) => {
-                failures.push(format!("{}: compile error: {}", golden.name, d.render(src, None)));
+                failures.push(format!(
+                    "{}: compile error: {}",
+                    golden.name,
+                    d.render(src, None)
+                ));
                 continue;
             }
         };
@@ -36,14 +44,26 @@ fn point_evaluator_reproduces_every_golden_file() {
                     for k in 1..ev.outputs() {
                         got.push(ev.output(k).unwrap());
                     }
-                    if got.len() != vals.len() || !got.iter().zip(vals).all(|(a, b)| close(*a, *b)) {
-                        failures.push(format!("{}:{}: expected {:?}, got {:?}", golden.name, p.line, vals, got));
+                    if got.len() != vals.len() || !got.iter().zip(vals).all(|(a, b)| close(*a, *b))
+                    {
+                        failures.push(format!(
+                            "{}:{}: expected {:?}, got {:?}",
+                            golden.name, p.line, vals, got
+                        ));
                     }
                 }
-                (exp, got) => failures.push(format!("{}:{}: expected {:?}, got {:?}", golden.name, p.line, exp, got)),
+                (exp, got) => failures.push(format!(
+                    "{}:{}: expected {:?}, got {:?}",
+                    golden.name, p.line, exp, got
+                )),
             }
         }
     }
     eprintln!("checked {checked} golden points of {} models", models.len());
-    assert!(failures.is_empty(), "{} failures:\n{}", failures.len(), failures.join("\n"));
+    assert!(
+        failures.is_empty(),
+        "{} failures:\n{}",
+        failures.len(),
+        failures.join("\n")
+    );
 }

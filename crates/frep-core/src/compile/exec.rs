@@ -54,11 +54,17 @@ struct Header {
 
 fn size_of(size: &Size, what: &str) -> Result<usize, Diagnostic> {
     let n = ops::round_half_up(size.value);
-    if !(n >= 1.0) {
-        return Err(Diagnostic::new(size.span, format!("the size of {what} must be at least 1")));
+    if n.is_nan() || n < 1.0 {
+        return Err(Diagnostic::new(
+            size.span,
+            format!("the size of {what} must be at least 1"),
+        ));
     }
     if n > 1_000_000.0 {
-        return Err(Diagnostic::new(size.span, format!("the size of {what} is too large (at most 1000000)")));
+        return Err(Diagnostic::new(
+            size.span,
+            format!("the size of {what} is too large (at most 1000000)"),
+        ));
     }
     Ok(n as usize)
 }
@@ -145,7 +151,13 @@ impl<'p> Compiler<'p> {
 
     /// Executes a body with the given arrays; returns its value, its error
     /// chain and its final `s`.
-    fn run_body(&mut self, body: &'p Body, x: Items, a: Items, s: Items) -> Result<(NodeId, NodeId, Items), Diagnostic> {
+    fn run_body(
+        &mut self,
+        body: &'p Body,
+        x: Items,
+        a: Items,
+        s: Items,
+    ) -> Result<(NodeId, NodeId, Items), Diagnostic> {
         if self.checked.insert(body.name.name.clone()) {
             check_declarations(self.program, body)?;
         }
@@ -172,21 +184,32 @@ impl<'p> Compiler<'p> {
         if self.steps > self.options.max_steps {
             return Err(Diagnostic::new(
                 span,
-                format!("compilation exceeded its work limit of {} steps", self.options.max_steps),
+                format!(
+                    "compilation exceeded its work limit of {} steps",
+                    self.options.max_steps
+                ),
             )
             .expected("a smaller model, or a larger `max_steps`"));
         }
         if self.g.len() > self.options.max_nodes {
             return Err(Diagnostic::new(
                 span,
-                format!("the model graph exceeded its limit of {} nodes", self.options.max_nodes),
+                format!(
+                    "the model graph exceeded its limit of {} nodes",
+                    self.options.max_nodes
+                ),
             )
             .expected("a smaller model, or a larger `max_nodes`"));
         }
         Ok(())
     }
 
-    fn stmts(&mut self, env: &mut Env, body: &'p Body, stmts: &'p [Stmt]) -> Result<(), Diagnostic> {
+    fn stmts(
+        &mut self,
+        env: &mut Env,
+        body: &'p Body,
+        stmts: &'p [Stmt],
+    ) -> Result<(), Diagnostic> {
         for s in stmts {
             self.stmt(env, body, s)?;
         }
@@ -204,7 +227,10 @@ impl<'p> Compiler<'p> {
                 if env.arrays.contains_key(&target.name) {
                     return Err(Diagnostic::new(
                         target.span,
-                        format!("`{}` is an array; assign its items or a whole-array literal", target.name),
+                        format!(
+                            "`{}` is an array; assign its items or a whole-array literal",
+                            target.name
+                        ),
                     )
                     .expected(format!("`{0}[i] = ...;` or `{0} = [...];`", target.name)));
                 }
@@ -212,14 +238,22 @@ impl<'p> Compiler<'p> {
                 self.push_chain(env, v);
                 env.scalars.insert(target.name.clone(), v);
             }
-            Stmt::ArrayLiteral { target, values, span } => {
+            Stmt::ArrayLiteral {
+                target,
+                values,
+                span,
+            } => {
                 self.step(target.span)?;
                 let items = self.array_mut(env, target)?;
                 if items.len() != values.len() {
                     let n = items.len();
                     return Err(Diagnostic::new(
                         *span,
-                        format!("wrong number of items for `{}`: {} given", target.name, values.len()),
+                        format!(
+                            "wrong number of items for `{}`: {} given",
+                            target.name,
+                            values.len()
+                        ),
                     )
                     .expected(format!("exactly {n} items")));
                 }
@@ -229,11 +263,18 @@ impl<'p> Compiler<'p> {
                     *slot = Some(n);
                 }
             }
-            Stmt::IndexAssign { target, index, value } => {
+            Stmt::IndexAssign {
+                target,
+                index,
+                value,
+            } => {
                 self.step(target.span)?;
                 self.array_mut(env, target)?;
                 if target.name == "x" || target.name == "a" {
-                    return Err(Diagnostic::new(target.span, format!("`{}` is read-only", target.name)));
+                    return Err(Diagnostic::new(
+                        target.span,
+                        format!("`{}` is read-only", target.name),
+                    ));
                 }
                 let idx = self.expr(env, body, index)?;
                 let v = self.expr(env, body, value)?;
@@ -250,7 +291,11 @@ impl<'p> Compiler<'p> {
                 self.step(*span)?;
                 let c = self.expr(env, body, cond)?;
                 if let Some(cv) = self.g.const_value(c) {
-                    let branch = if ops::truthy(cv) { then_branch } else { else_branch };
+                    let branch = if ops::truthy(cv) {
+                        then_branch
+                    } else {
+                        else_branch
+                    };
                     return self.stmts(env, body, branch);
                 }
                 if self.g.error_value(c).is_some() {
@@ -265,7 +310,11 @@ impl<'p> Compiler<'p> {
                 self.stmts(&mut else_env, body, else_branch)?;
                 *env = self.merge(c, &then_env, &else_env);
             }
-            Stmt::While { cond, body: loop_body, span } => self.while_loop(env, body, cond, loop_body, *span)?,
+            Stmt::While {
+                cond,
+                body: loop_body,
+                span,
+            } => self.while_loop(env, body, cond, loop_body, *span)?,
         }
         Ok(())
     }
@@ -278,7 +327,11 @@ impl<'p> Compiler<'p> {
         for name in names {
             let tv = t.scalars.get(name).copied().unwrap_or(uninit);
             let ev = e.scalars.get(name).copied().unwrap_or(uninit);
-            let v = if tv == ev { tv } else { self.g.select(c, tv, ev) };
+            let v = if tv == ev {
+                tv
+            } else {
+                self.g.select(c, tv, ev)
+            };
             scalars.insert(name.clone(), v);
         }
         let mut arrays = HashMap::with_capacity(t.arrays.len());
@@ -296,10 +349,21 @@ impl<'p> Compiler<'p> {
             arrays.insert(name.clone(), items);
         }
         let chain = self.g.select(c, t.chain, e.chain);
-        Env { scalars, arrays, chain }
+        Env {
+            scalars,
+            arrays,
+            chain,
+        }
     }
 
-    fn while_loop(&mut self, env: &mut Env, body: &'p Body, cond: &'p Expr, stmts: &'p [Stmt], span: Span) -> Result<(), Diagnostic> {
+    fn while_loop(
+        &mut self,
+        env: &mut Env,
+        body: &'p Body,
+        cond: &'p Expr,
+        stmts: &'p [Stmt],
+        span: Span,
+    ) -> Result<(), Diagnostic> {
         // `merged` is None while every condition so far was constant true.
         // Once a condition depends on the point, `active` is "every condition
         // so far held" and `state` the state if the loop stopped now.
@@ -365,16 +429,27 @@ impl<'p> Compiler<'p> {
     /// The items of an assignable array (`s` or a local).
     fn array_mut<'e>(&self, env: &'e mut Env, name: &Ident) -> Result<&'e mut Items, Diagnostic> {
         if name.name == "x" || name.name == "a" {
-            return Err(Diagnostic::new(name.span, format!("`{}` is read-only", name.name)));
+            return Err(Diagnostic::new(
+                name.span,
+                format!("`{}` is read-only", name.name),
+            ));
         }
         if env.scalars.contains_key(&name.name) || !env.arrays.contains_key(&name.name) {
-            return Err(Diagnostic::new(name.span, format!("`{}` is not an array", name.name))
-                .expected("a name declared with `array`, or `s`"));
+            return Err(
+                Diagnostic::new(name.span, format!("`{}` is not an array", name.name))
+                    .expected("a name declared with `array`, or `s`"),
+            );
         }
         Ok(env.arrays.get_mut(&name.name).expect("checked above"))
     }
 
-    fn write_item(&mut self, env: &mut Env, target: &Ident, idx: NodeId, v: NodeId) -> Result<(), Diagnostic> {
+    fn write_item(
+        &mut self,
+        env: &mut Env,
+        target: &Ident,
+        idx: NodeId,
+        v: NodeId,
+    ) -> Result<(), Diagnostic> {
         let n = env.arrays[&target.name].len();
         if let Some(i) = self.g.const_value(idx) {
             let r = ops::round_half_up(i);
@@ -446,8 +521,11 @@ impl<'p> Compiler<'p> {
                 if let Some(&v) = env.scalars.get(&id.name) {
                     v
                 } else if env.arrays.contains_key(&id.name) {
-                    return Err(Diagnostic::new(id.span, format!("`{}` is an array, not a number", id.name))
-                        .expected(format!("an item such as `{}[1]`", id.name)));
+                    return Err(Diagnostic::new(
+                        id.span,
+                        format!("`{}` is an array, not a number", id.name),
+                    )
+                    .expected(format!("an item such as `{}[1]`", id.name)));
                 } else {
                     // Declared textually (checked before execution) but not
                     // assigned on this path.
@@ -457,8 +535,11 @@ impl<'p> Compiler<'p> {
             Expr::Index { array, index, .. } => {
                 let idx = self.expr(env, body, index)?;
                 let Some(items) = env.arrays.get(&array.name) else {
-                    return Err(Diagnostic::new(array.span, format!("`{}` is not an array", array.name))
-                        .expected("`x`, `a`, `s` or a name declared with `array`"));
+                    return Err(Diagnostic::new(
+                        array.span,
+                        format!("`{}` is not an array", array.name),
+                    )
+                    .expected("`x`, `a`, `s` or a name declared with `array`"));
                 };
                 let items = items.clone();
                 self.read_item(&items, idx)
@@ -501,11 +582,25 @@ impl<'p> Compiler<'p> {
     }
 
     fn arity_error(name: &Ident, n: usize, given: usize, span: Span) -> Diagnostic {
-        Diagnostic::new(span, format!("`{}` takes {n} argument{}, {given} given", name.name, if n == 1 { "" } else { "s" }))
-            .expected(format!("{n} argument{}", if n == 1 { "" } else { "s" }))
+        Diagnostic::new(
+            span,
+            format!(
+                "`{}` takes {n} argument{}, {given} given",
+                name.name,
+                if n == 1 { "" } else { "s" }
+            ),
+        )
+        .expected(format!("{n} argument{}", if n == 1 { "" } else { "s" }))
     }
 
-    fn call(&mut self, env: &mut Env, body: &'p Body, name: &'p Ident, args: &'p [Expr], span: Span) -> Result<NodeId, Diagnostic> {
+    fn call(
+        &mut self,
+        env: &mut Env,
+        body: &'p Body,
+        name: &'p Ident,
+        args: &'p [Expr],
+        span: Span,
+    ) -> Result<NodeId, Diagnostic> {
         let fname = name.name.as_str();
         if fname == "sign" {
             if args.len() != 1 {
@@ -541,20 +636,37 @@ impl<'p> Compiler<'p> {
         if self.program.bodies.iter().any(|b| b.name.name == fname) {
             return Err(Diagnostic::new(
                 name.span,
-                format!("body `{fname}` is defined below `{}`; a body may call only bodies above it", body.name.name),
+                format!(
+                    "body `{fname}` is defined below `{}`; a body may call only bodies above it",
+                    body.name.name
+                ),
             ));
         }
-        Err(Diagnostic::new(name.span, format!("unknown function `{}`", name.name))
-            .expected("a built-in function, a library function (hf...) or a body defined above"))
+        Err(
+            Diagnostic::new(name.span, format!("unknown function `{}`", name.name)).expected(
+                "a built-in function, a library function (hf...) or a body defined above",
+            ),
+        )
     }
 
     fn find_body(&self, current: &Body, name: &str) -> Option<&'p Body> {
-        let pos = self.program.bodies.iter().position(|b| std::ptr::eq(b, current))?;
-        self.program.bodies[..pos].iter().find(|b| b.name.name == name)
+        let pos = self
+            .program
+            .bodies
+            .iter()
+            .position(|b| std::ptr::eq(b, current))?;
+        self.program.bodies[..pos]
+            .iter()
+            .find(|b| b.name.name == name)
     }
 
     /// The items of an array argument, or an error naming the argument.
-    fn array_arg(env: &Env, arg: &Expr, fname: &str, k: usize) -> Result<(String, Items), Diagnostic> {
+    fn array_arg(
+        env: &Env,
+        arg: &Expr,
+        fname: &str,
+        k: usize,
+    ) -> Result<(String, Items), Diagnostic> {
         if let Expr::Ident(id) = arg {
             if let Some(items) = env.arrays.get(&id.name) {
                 if !env.scalars.contains_key(&id.name) {
@@ -562,11 +674,22 @@ impl<'p> Compiler<'p> {
                 }
             }
         }
-        Err(Diagnostic::new(arg.span(), format!("argument {} of `{fname}` must be an array", k + 1))
-            .expected("an array name (`x`, `a`, `s` or a declared array)"))
+        Err(Diagnostic::new(
+            arg.span(),
+            format!("argument {} of `{fname}` must be an array", k + 1),
+        )
+        .expected("an array name (`x`, `a`, `s` or a declared array)"))
     }
 
-    fn library_call(&mut self, env: &mut Env, body: &'p Body, name: &Ident, lib: &'static library::LibFn, args: &'p [Expr], span: Span) -> Result<NodeId, Diagnostic> {
+    fn library_call(
+        &mut self,
+        env: &mut Env,
+        body: &'p Body,
+        name: &Ident,
+        lib: &'static library::LibFn,
+        args: &'p [Expr],
+        span: Span,
+    ) -> Result<NodeId, Diagnostic> {
         if args.len() != lib.params.len() {
             return Err(Self::arity_error(name, lib.params.len(), args.len(), span));
         }
@@ -583,12 +706,16 @@ impl<'p> Compiler<'p> {
         let mut unassigned = false;
         for (k, kind) in lib.params.iter().enumerate() {
             match kind {
-                ParamKind::Scalar => lib_args.push(LibArg::Scalar(scalars[k].expect("evaluated above"))),
+                ParamKind::Scalar => {
+                    lib_args.push(LibArg::Scalar(scalars[k].expect("evaluated above")))
+                }
                 ParamKind::Array => {
                     let (aname, items) = Self::array_arg(env, &args[k], &name.name, k)?;
                     unassigned |= items.iter().any(Option::is_none);
                     array_names.push((k, aname));
-                    lib_args.push(LibArg::Array(items.into_iter().map(|i| i.unwrap_or(NodeId(0))).collect()));
+                    lib_args.push(LibArg::Array(
+                        items.into_iter().map(|i| i.unwrap_or(NodeId(0))).collect(),
+                    ));
                 }
             }
         }
@@ -617,11 +744,25 @@ impl<'p> Compiler<'p> {
         Ok(self.g.check(guard, result))
     }
 
-    fn body_call(&mut self, env: &mut Env, callee: &'p Body, name: &Ident, args: &'p [Expr], span: Span) -> Result<NodeId, Diagnostic> {
+    fn body_call(
+        &mut self,
+        env: &mut Env,
+        callee: &'p Body,
+        name: &Ident,
+        args: &'p [Expr],
+        span: Span,
+    ) -> Result<NodeId, Diagnostic> {
         self.step(span)?;
         if args.len() != 2 && args.len() != 3 {
-            return Err(Diagnostic::new(span, format!("a call of body `{}` takes 2 or 3 array arguments, {} given", name.name, args.len()))
-                .expected("`body(x, a)` or `body(x, a, s)`"));
+            return Err(Diagnostic::new(
+                span,
+                format!(
+                    "a call of body `{}` takes 2 or 3 array arguments, {} given",
+                    name.name,
+                    args.len()
+                ),
+            )
+            .expected("`body(x, a)` or `body(x, a, s)`"));
         }
         let h = header(callee)?;
         let mut arrays = Vec::with_capacity(3);
@@ -633,21 +774,40 @@ impl<'p> Compiler<'p> {
             if items.len() != want[k] {
                 return Err(Diagnostic::new(
                     args[k].span(),
-                    format!("wrong number of items in array: `{}` declares {} here, {} given", callee.name.name, ["x", "a", "s"][k], items.len()),
+                    format!(
+                        "wrong number of items in array: `{}` declares {} here, {} given",
+                        callee.name.name,
+                        ["x", "a", "s"][k],
+                        items.len()
+                    ),
                 )
                 .expected(format!("an array of {} items", want[k])));
             }
         }
         if args.len() == 2 && h.s != 1 {
-            return Err(Diagnostic::new(span, format!("`{}` declares s[{}]; pass an array for it", callee.name.name, h.s))
-                .expected("a third array argument"));
+            return Err(Diagnostic::new(
+                span,
+                format!(
+                    "`{}` declares s[{}]; pass an array for it",
+                    callee.name.name, h.s
+                ),
+            )
+            .expected("a third array argument"));
         }
-        if arrays.iter().any(|(_, items)| items.iter().any(Option::is_none)) {
+        if arrays
+            .iter()
+            .any(|(_, items)| items.iter().any(Option::is_none))
+        {
             return Ok(self.g.error(EvalError::UnassignedItems));
         }
         let zero = self.g.constant(0.0);
-        let s_in = if args.len() == 3 { arrays[2].1.clone() } else { vec![Some(zero)] };
-        let (value, chain, s_out) = self.run_body(callee, arrays[0].1.clone(), arrays[1].1.clone(), s_in)?;
+        let s_in = if args.len() == 3 {
+            arrays[2].1.clone()
+        } else {
+            vec![Some(zero)]
+        };
+        let (value, chain, s_out) =
+            self.run_body(callee, arrays[0].1.clone(), arrays[1].1.clone(), s_in)?;
         if args.len() == 3 {
             let target = &arrays[2].0;
             if let Some(items) = env.arrays.get_mut(target) {
@@ -665,30 +825,53 @@ fn check_declarations(program: &Program, body: &Body) -> Result<(), Diagnostic> 
     let mut declared: HashSet<&str> = ["x", "a", "s"].into_iter().collect();
     for d in &body.arrays {
         if !declared.insert(d.name.name.as_str()) {
-            return Err(Diagnostic::new(d.name.span, format!("`{}` is declared twice", d.name.name)));
+            return Err(Diagnostic::new(
+                d.name.span,
+                format!("`{}` is declared twice", d.name.name),
+            ));
         }
         if library::lookup(&d.name.name).is_some() || is_builtin(&d.name.name) {
-            return Err(Diagnostic::new(d.name.span, format!("`{}` is a function name", d.name.name)));
+            return Err(Diagnostic::new(
+                d.name.span,
+                format!("`{}` is a function name", d.name.name),
+            ));
         }
     }
     let arrays: HashSet<&str> = declared.clone();
-    let body_pos = program.bodies.iter().position(|b| std::ptr::eq(b, body)).unwrap_or(0);
-    let bodies: HashSet<&str> = program.bodies[..body_pos].iter().map(|b| b.name.name.as_str()).collect();
-    fn visit_expr<'a>(e: &'a Expr, declared: &HashSet<&'a str>, bodies: &HashSet<&str>) -> Result<(), Diagnostic> {
+    let body_pos = program
+        .bodies
+        .iter()
+        .position(|b| std::ptr::eq(b, body))
+        .unwrap_or(0);
+    let bodies: HashSet<&str> = program.bodies[..body_pos]
+        .iter()
+        .map(|b| b.name.name.as_str())
+        .collect();
+    fn visit_expr<'a>(
+        e: &'a Expr,
+        declared: &HashSet<&'a str>,
+        bodies: &HashSet<&str>,
+    ) -> Result<(), Diagnostic> {
         match e {
             Expr::Num { .. } => Ok(()),
             Expr::Ident(id) => {
                 if declared.contains(id.name.as_str()) || bodies.contains(id.name.as_str()) {
                     Ok(())
                 } else {
-                    Err(Diagnostic::new(id.span, format!("`{}` is used before any assignment to it", id.name))
-                        .expected("a variable assigned above, an array or a number"))
+                    Err(Diagnostic::new(
+                        id.span,
+                        format!("`{}` is used before any assignment to it", id.name),
+                    )
+                    .expected("a variable assigned above, an array or a number"))
                 }
             }
             Expr::Index { array, index, .. } => {
                 if !declared.contains(array.name.as_str()) {
-                    return Err(Diagnostic::new(array.span, format!("unknown array `{}`", array.name))
-                        .expected("`x`, `a`, `s` or a name declared with `array`"));
+                    return Err(Diagnostic::new(
+                        array.span,
+                        format!("unknown array `{}`", array.name),
+                    )
+                    .expected("`x`, `a`, `s` or a name declared with `array`"));
                 }
                 visit_expr(index, declared, bodies)
             }
@@ -697,37 +880,71 @@ fn check_declarations(program: &Program, body: &Body) -> Result<(), Diagnostic> 
                 visit_expr(lhs, declared, bodies)?;
                 visit_expr(rhs, declared, bodies)
             }
-            Expr::Call { args, .. } => args.iter().try_for_each(|a| visit_expr(a, declared, bodies)),
+            Expr::Call { args, .. } => args
+                .iter()
+                .try_for_each(|a| visit_expr(a, declared, bodies)),
         }
     }
-    fn visit<'a>(stmts: &'a [Stmt], declared: &mut HashSet<&'a str>, arrays: &HashSet<&str>, bodies: &HashSet<&str>) -> Result<(), Diagnostic> {
+    fn visit<'a>(
+        stmts: &'a [Stmt],
+        declared: &mut HashSet<&'a str>,
+        arrays: &HashSet<&str>,
+        bodies: &HashSet<&str>,
+    ) -> Result<(), Diagnostic> {
         for s in stmts {
             match s {
                 Stmt::Assign { target, value } => {
                     visit_expr(value, declared, bodies)?;
                     if arrays.contains(target.name.as_str()) {
-                        return Err(Diagnostic::new(target.span, format!("`{}` is an array; assign its items or a whole-array literal", target.name)));
+                        return Err(Diagnostic::new(
+                            target.span,
+                            format!(
+                                "`{}` is an array; assign its items or a whole-array literal",
+                                target.name
+                            ),
+                        ));
                     }
                     if library::lookup(&target.name).is_some() || is_builtin(&target.name) {
-                        return Err(Diagnostic::new(target.span, format!("`{}` is a function name and cannot be assigned", target.name)));
+                        return Err(Diagnostic::new(
+                            target.span,
+                            format!(
+                                "`{}` is a function name and cannot be assigned",
+                                target.name
+                            ),
+                        ));
                     }
                     declared.insert(target.name.as_str());
                 }
                 Stmt::ArrayLiteral { target, .. } => {
                     if !arrays.contains(target.name.as_str()) {
-                        return Err(Diagnostic::new(target.span, format!("`{}` is not a declared array", target.name))
-                            .expected("an `array` declaration at the top of the body"));
+                        return Err(Diagnostic::new(
+                            target.span,
+                            format!("`{}` is not a declared array", target.name),
+                        )
+                        .expected("an `array` declaration at the top of the body"));
                     }
                 }
-                Stmt::IndexAssign { target, index, value } => {
+                Stmt::IndexAssign {
+                    target,
+                    index,
+                    value,
+                } => {
                     if !arrays.contains(target.name.as_str()) {
-                        return Err(Diagnostic::new(target.span, format!("`{}` is not a declared array", target.name))
-                            .expected("an `array` declaration at the top of the body"));
+                        return Err(Diagnostic::new(
+                            target.span,
+                            format!("`{}` is not a declared array", target.name),
+                        )
+                        .expected("an `array` declaration at the top of the body"));
                     }
                     visit_expr(index, declared, bodies)?;
                     visit_expr(value, declared, bodies)?;
                 }
-                Stmt::If { cond, then_branch, else_branch, .. } => {
+                Stmt::If {
+                    cond,
+                    then_branch,
+                    else_branch,
+                    ..
+                } => {
                     visit_expr(cond, declared, bodies)?;
                     visit(then_branch, declared, arrays, bodies)?;
                     visit(else_branch, declared, arrays, bodies)?;

@@ -159,9 +159,16 @@ fn select_body<'p>(program: &'p Program, name: Option<&str>) -> Result<&'p Body,
             .iter()
             .find(|b| b.name.name == lower)
             .ok_or_else(|| {
-                let names: Vec<_> = program.bodies.iter().map(|b| b.name.name.as_str()).collect();
+                let names: Vec<_> = program
+                    .bodies
+                    .iter()
+                    .map(|b| b.name.name.as_str())
+                    .collect();
                 Diagnostic::new(
-                    program.bodies.first().map_or(Span::default(), |b| b.name.span),
+                    program
+                        .bodies
+                        .first()
+                        .map_or(Span::default(), |b| b.name.span),
                     format!("no body named `{name}` in this file"),
                 )
                 .expected(format!("one of: {}", names.join(", ")))
@@ -172,5 +179,8 @@ fn select_body<'p>(program: &'p Program, name: Option<&str>) -> Result<&'p Body,
         .iter()
         .find(|b| b.name.name == "my_model")
         .or_else(|| program.bodies.first())
-        .ok_or_else(|| Diagnostic::new(Span::default(), "the file has no body").expected("a body such as `my_model(x[3], a[1]) { ... }`"))
+        .ok_or_else(|| {
+            Diagnostic::new(Span::default(), "the file has no body")
+                .expected("a body such as `my_model(x[3], a[1]) { ... }`")
+        })
 }

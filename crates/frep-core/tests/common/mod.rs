@@ -59,12 +59,19 @@ pub fn parse_golden(name: &str, text: &str) -> Golden {
             continue;
         }
         let (lhs, rhs) = line.split_once('|').expect("golden line has '|'");
-        let inputs = lhs.split_whitespace().map(|t| t.parse().expect("number")).collect();
+        let inputs = lhs
+            .split_whitespace()
+            .map(|t| t.parse().expect("number"))
+            .collect();
         let rhs = rhs.trim();
         let expected = if let Some(msg) = rhs.strip_prefix("error ") {
             Expected::Error(msg.trim().to_string())
         } else {
-            Expected::Values(rhs.split_whitespace().map(|t| t.parse().expect("number")).collect())
+            Expected::Values(
+                rhs.split_whitespace()
+                    .map(|t| t.parse().expect("number"))
+                    .collect(),
+            )
         };
         points.push(GoldenPoint {
             inputs,
