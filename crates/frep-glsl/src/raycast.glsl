@@ -32,6 +32,9 @@ vec2 hf_segment_iv(vec3 o, vec3 d, vec2 seg) {
   return field_iv(vec2(lo.x, hi.x), vec2(lo.y, hi.y), vec2(lo.z, hi.z));
 }
 
+// Linear RGB to the (approximately sRGB) output.
+vec4 hf_output(vec3 c) { return vec4(pow(clamp(c, 0.0, 1.0), vec3(1.0 / 2.2)), 1.0); }
+
 void main() {
   vec3 o;
   vec3 d;
@@ -54,7 +57,7 @@ void main() {
   float t0 = max(max(tmin.x, tmin.y), max(tmin.z, 0.0));
   float t1 = min(min(tmax.x, tmax.y), tmax.z);
   if (!(t0 < t1)) {
-    frag_color = vec4(u_background, 1.0);
+    frag_color = hf_output(u_background);
     return;
   }
   vec2 stack[HF_STACK];
@@ -109,7 +112,7 @@ void main() {
     return;
   }
   if (!found) {
-    frag_color = vec4(u_background, 1.0);
+    frag_color = hf_output(u_background);
     return;
   }
   vec3 p = o + d * hit;
@@ -125,5 +128,5 @@ void main() {
   float diff = max(dot(n, key), 0.0);
   float spec = pow(max(dot(reflect(-key, n), -d), 0.0), 32.0);
   vec3 c = base * (0.15 + 0.65 * diff + 0.3 * max(dot(n, fill), 0.0)) + vec3(0.25 * spec);
-  frag_color = vec4(pow(clamp(c, 0.0, 1.0), vec3(1.0 / 2.2)), 1.0);
+  frag_color = hf_output(c);
 }
