@@ -38,7 +38,11 @@ fn compile(src: &str, golden: &Golden) -> Model {
 
 fn run_suite(name: &str, mut make: impl FnMut(&Model) -> Box<EvalFn>) {
     let models = golden_models();
-    assert!(models.len() >= 48);
+    assert_eq!(
+        models.len(),
+        common::expected_golden_models(),
+        "golden files missing"
+    );
     let mut failures = Vec::new();
     let mut points = 0;
     for (src, golden) in &models {
