@@ -166,6 +166,19 @@ impl Graph {
         }
     }
 
+    /// The constant value of `id` once its guards are set aside: for
+    /// `Check(g, Check(h, c))` with a constant `c`, the value `c` (whatever
+    /// errors `g` and `h` may raise first).
+    pub fn const_under_checks(&self, mut id: NodeId) -> Option<f64> {
+        loop {
+            match *self.node(id) {
+                Node::Check(_, v) => id = v,
+                Node::Const(b) => return Some(f64::from_bits(b)),
+                _ => return None,
+            }
+        }
+    }
+
     /// Whether the node can evaluate to a runtime error at some point.
     pub fn is_fallible(&self, id: NodeId) -> bool {
         self.fallible[id.index()]
@@ -176,7 +189,11 @@ impl Graph {
         if let Some(&id) = self.dedup.get(&node) {
             return id;
         }
-        let fallible = node.op_fallible() || node.children().any(|c| self.fallible[c.index()]);
+        // A checked division by a constant that is not ~0 cannot fail.
+        let safe_div = matches!(node, Node::Binary(BinaryOp::Div, _, b)
+            if self.const_value(b).is_some_and(|v| v.abs() >= ops::EPS));
+        let fallible =
+            (node.op_fallible() && !safe_div) || node.children().any(|c| self.fallible[c.index()]);
         let id = NodeId(u32::try_from(self.nodes.len()).expect("graph exceeds u32 nodes"));
         self.nodes.push(node);
         self.fallible.push(fallible);
@@ -281,6 +298,21 @@ impl Graph {
                 return self.pow_int(a, if e < 0.0 { -n } else { n });
             }
             _ => {}
+        }
+        // `and` / `or` with a constant side that decides them: the other side
+        // still runs (no short circuit), so its errors are kept.
+        for (c, other) in [(ca, b), (cb, a)] {
+            match (op, c) {
+                (BinaryOp::And, Some(v)) if !ops::truthy(v) => {
+                    let zero = self.constant(0.0);
+                    return self.check(other, zero);
+                }
+                (BinaryOp::Or, Some(v)) if ops::truthy(v) => {
+                    let one = self.constant(1.0);
+                    return self.check(other, one);
+                }
+                _ => {}
+            }
         }
         if a == b {
             match op {

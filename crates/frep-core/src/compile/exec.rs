@@ -373,7 +373,7 @@ impl<'p> Compiler<'p> {
             self.step(span)?;
             let c = self.expr(env, body, cond)?;
             self.push_chain(env, c);
-            if let Some(cv) = self.g.const_value(c) {
+            if let Some(cv) = self.g.const_under_checks(c) {
                 if !ops::truthy(cv) {
                     break;
                 }

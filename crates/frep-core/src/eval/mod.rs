@@ -6,6 +6,10 @@
 //! (`Node::X(i)` with `i >= 3`). Missing values read as 0, the reference
 //! host's default.
 
+pub mod batch;
+pub mod grad;
+pub mod simd_math;
+
 /// Values of a model's inputs other than the point.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Inputs {
@@ -40,5 +44,9 @@ impl Inputs {
     }
 }
 
+pub mod interval;
 pub mod point;
 pub use point::PointEval;
+
+#[cfg(test)]
+pub(crate) mod testutil;

@@ -1,0 +1,75 @@
+//! Benchmarks of frep, and the anchor implementations they are compared with.
+//!
+//! The benchmark models M1–M4 are defined once, in
+//! `shared/notes/rendering-and-meshing.md`; their HyperFun sources live in the
+//! workspace's `examples/` folder (`m1_sphere.hf` … `m4_rblend10.hf`), and
+//! the `anchors` module builds the same fields in fidget (behind the `anchors` feature,
+//! so that ordinary workspace builds do not compile fidget); `to_fidget`
+//! translates any compiled frep model into a fidget tree, so that the `core`
+//! benchmark can run the same evaluations in both.
+
+#![warn(missing_docs)]
+
+#[cfg(feature = "anchors")]
+pub mod anchors;
+#[cfg(feature = "anchors")]
+pub mod to_fidget;
+
+/// The benchmark box: every model is measured on `[-1, 1]³`.
+pub const BOX_MIN: f32 = -1.0;
+/// Upper corner of the benchmark box, on every axis.
+pub const BOX_MAX: f32 = 1.0;
+
+/// Points of a regular `n × n × n` grid of cell centres over the benchmark
+/// box, as three coordinate slices (the layout bulk evaluators take).
+pub fn grid_points(n: usize) -> [Vec<f32>; 3] {
+    let step = (BOX_MAX - BOX_MIN) / n as f32;
+    let coord = |i: usize| BOX_MIN + (i as f32 + 0.5) * step;
+    let total = n * n * n;
+    let mut xs = Vec::with_capacity(total);
+    let mut ys = Vec::with_capacity(total);
+    let mut zs = Vec::with_capacity(total);
+    for k in 0..n {
+        for j in 0..n {
+            for i in 0..n {
+                xs.push(coord(i));
+                ys.push(coord(j));
+                zs.push(coord(k));
+            }
+        }
+    }
+    [xs, ys, zs]
+}
+
+/// The cells of a regular `n × n × n` subdivision of the benchmark box, as
+/// `[lo, hi]` bounds per axis (what an interval evaluator prunes).
+pub fn grid_boxes(n: usize) -> Vec<[[f32; 2]; 3]> {
+    let step = (BOX_MAX - BOX_MIN) / n as f32;
+    let span = |i: usize| [BOX_MIN + i as f32 * step, BOX_MIN + (i + 1) as f32 * step];
+    let mut boxes = Vec::with_capacity(n * n * n);
+    for k in 0..n {
+        for j in 0..n {
+            for i in 0..n {
+                boxes.push([span(i), span(j), span(k)]);
+            }
+        }
+    }
+    boxes
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn grids_cover_the_box() {
+        let [xs, ys, zs] = grid_points(4);
+        assert_eq!(xs.len(), 64);
+        assert_eq!((xs[0], ys[0], zs[0]), (-0.75, -0.75, -0.75));
+        assert_eq!(xs[63], 0.75);
+        let boxes = grid_boxes(2);
+        assert_eq!(boxes.len(), 8);
+        assert_eq!(boxes[0], [[-1.0, 0.0]; 3]);
+        assert_eq!(boxes[7], [[0.0, 1.0]; 3]);
+    }
+}

@@ -1,0 +1,713 @@
+//! Batch evaluation: many points at once, in `f64`.
+//!
+//! [`BatchEval`] compiles a [`Tape`] once into a register program and runs it
+//! over blocks of [`LANES`] points stored as structure-of-arrays. Each
+//! instruction is one tight loop over the lanes of a block (the operation is
+//! chosen once per instruction, never per lane), which LLVM vectorises;
+//! transcendental functions use the branch-free kernels of
+//! [`simd_math`](super::simd_math).
+//!
+//! * **Uniform values** — constants, parameters, extra coordinates `x[4..]`,
+//!   errors and every operation of uniform values only — are computed once per
+//!   call with scalar code (cached while the [`Inputs`] stay the same) and
+//!   enter the program as scalar operands of binary operations, or as
+//!   registers filled once per call where another operation needs them.
+//! * **Registers** are allocated by last use: memory is
+//!   O(live values × block), not O(tape × block).
+//! * **Guards** of [`Node::Check`] are ignored (the value is the checked
+//!   value), and nodes only guards need are not evaluated at all.
+//!
+//! ## Semantics
+//! Every operation computes what [`ops`] computes, except that runtime errors
+//! give NaN ([`Node::Error`], checked `/` with `|b| < 1e-6`, `sqrt` of a
+//! negative number, `log` at or below 0, `tan` where `|cos| < 1e-6`, `asin`
+//! and `acos` outside [-1, 1], HyperFun's `^` errors, `b ^ n` with
+//! `|b| < 1e-6` and `n <= 0`). Arithmetic, comparisons, `min`/`max`,
+//! R-functions, blends, selects, rounding and integer powers are bit-exact;
+//! `exp`, `log`, `logd`, `sin`, `cos`, `tan` and `atan` use the vectorised
+//! kernels (≤ 2 ulp from `std`); the other functions call `std` per lane.
+//!
+//! A select picks its branch by [`ops::truthy`] of the condition, lane by
+//! lane: `|c| >= 1e-6`. A NaN condition is false (`|NaN| >= 1e-6` is false),
+//! so it picks the else branch, as the scalar evaluator does.
+
+use super::simd_math as sm;
+use super::Inputs;
+use crate::graph::{Node, NodeId, Tape};
+use crate::ops::{self, BinaryOp, BlendOp, UnaryOp, EPS};
+
+/// Number of points per block.
+pub const LANES: usize = 128;
+
+type Block = [f64; LANES];
+
+#[inline(always)]
+fn sel(c: bool, a: f64, b: f64) -> f64 {
+    if c {
+        a
+    } else {
+        b
+    }
+}
+
+#[inline(always)]
+fn bool_f(b: bool) -> f64 {
+    sel(b, 1.0, 0.0)
+}
+
+/// A unary operation on one value, with errors as NaN; exactly what the
+/// batch kernels compute lane by lane.
+#[inline(always)]
+pub fn unary_lane(op: UnaryOp, a: f64) -> f64 {
+    match op {
+        UnaryOp::Neg => -a,
+        UnaryOp::Abs => a.abs(),
+        // IEEE sqrt is NaN below 0 and keeps -0: the checked form agrees.
+        UnaryOp::Sqrt | UnaryOp::SqrtF => a.sqrt(),
+        UnaryOp::Exp => sm::exp(a),
+        UnaryOp::Log => sel(a > 0.0, sm::ln(a), f64::NAN),
+        UnaryOp::Logd => sel(a > 0.0, sm::log10(a), f64::NAN),
+        UnaryOp::Sin => sm::sin(a),
+        UnaryOp::Cos => sm::cos(a),
+        UnaryOp::Tan => sm::tan_checked(a),
+        // std is NaN outside [-1, 1], like the checked form's error.
+        UnaryOp::Asin => a.asin(),
+        UnaryOp::Acos => a.acos(),
+        UnaryOp::Atan => sm::atan(a),
+        UnaryOp::Sinh => a.sinh(),
+        UnaryOp::Cosh => a.cosh(),
+        UnaryOp::Tanh => a.tanh(),
+        UnaryOp::Ceil => sm::ceil(a),
+        UnaryOp::Floor => sm::floor(a),
+        UnaryOp::Trunc => sm::trunc(a),
+        UnaryOp::Frac => a - sm::trunc(a),
+        // NaN is not truthy, so `not NaN` is 1.
+        UnaryOp::Not => sel(a.abs() >= EPS, 0.0, 1.0),
+        UnaryOp::RoundHalfUp => {
+            let r = sm::ceil(a);
+            sel(r - a > 0.5, r - 1.0, r)
+        }
+    }
+}
+
+/// A binary operation on one pair of values, with errors as NaN; exactly
+/// what the batch kernels compute lane by lane.
+#[inline(always)]
+pub fn binary_lane(op: BinaryOp, a: f64, b: f64) -> f64 {
+    match op {
+        BinaryOp::Add => a + b,
+        BinaryOp::Sub => a - b,
+        BinaryOp::Mul => a * b,
+        BinaryOp::Div => sel(b.abs() < EPS, f64::NAN, a / b),
+        BinaryOp::DivF => a / b,
+        BinaryOp::Pow => ops::hf_pow(a, b).unwrap_or(f64::NAN),
+        BinaryOp::PowF => a.powf(b),
+        BinaryOp::Min => sel(a < b, a, b),
+        BinaryOp::Max => sel(a > b, a, b),
+        BinaryOp::Atan2 => a.atan2(b),
+        BinaryOp::Mod => ops::round_half_up(a) % ops::round_half_up(b),
+        BinaryOp::RUnion => ops::r_union(a, b),
+        BinaryOp::RInter => ops::r_inter(a, b),
+        BinaryOp::RDiff => ops::r_diff(a, b),
+        BinaryOp::Lt => bool_f(a < b),
+        BinaryOp::Gt => bool_f(a > b),
+        BinaryOp::Le => bool_f(a <= b),
+        BinaryOp::Ge => bool_f(a >= b),
+        BinaryOp::Eq => bool_f((a - b).abs() < EPS),
+        BinaryOp::Ne => bool_f((a - b).abs() >= EPS),
+        BinaryOp::And => bool_f((a.abs() >= EPS) & (b.abs() >= EPS)),
+        BinaryOp::Or => bool_f((a.abs() >= EPS) | (b.abs() >= EPS)),
+    }
+}
+
+/// [`ops::pow_int`] with errors as NaN.
+#[inline]
+fn pow_int_lane(b: f64, n: i32) -> f64 {
+    ops::pow_int(b, n).unwrap_or(f64::NAN)
+}
+
+/// [`Node::Select`] on one lane.
+#[inline(always)]
+fn select_lane(c: f64, t: f64, e: f64) -> f64 {
+    sel(c.abs() >= EPS, t, e)
+}
+
+/// A binary operand: a register or a uniform scalar.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Src {
+    Reg(u32),
+    Uni(u32),
+}
+
+#[derive(Clone, Copy, Debug)]
+enum Instr {
+    Unary(UnaryOp, u32, u32),
+    Binary(BinaryOp, u32, Src, Src),
+    PowI(u32, u32, i32),
+    Select(u32, [u32; 3]),
+    Blend(BlendOp, u32, [u32; 5]),
+}
+
+/// A compiled register program for a subset of the outputs.
+#[derive(Clone, Debug)]
+struct Program {
+    instrs: Vec<Instr>,
+    /// `(register, uniform)`: registers holding a broadcast uniform value.
+    bcast: Vec<(u32, u32)>,
+    outputs: Vec<Src>,
+    /// Whether x, y, z (registers 0, 1, 2) are read.
+    xyz: [bool; 3],
+    regs: Vec<Block>,
+}
+
+/// Where a tape node's value lives.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Loc {
+    /// Uniform value number.
+    Uni(u32),
+    /// Varies per point.
+    Var,
+}
+
+/// Evaluates a [`Tape`] at many points at once (see the module docs).
+#[derive(Clone, Debug)]
+pub struct BatchEval {
+    tape: Tape,
+    /// For each node, the node whose value it has (through `Check`s).
+    alias: Vec<u32>,
+    loc: Vec<Loc>,
+    /// Uniform nodes in order, children renumbered to uniform numbers.
+    uni_nodes: Vec<Node>,
+    uni: Vec<f64>,
+    uni_inputs: Option<Inputs>,
+    first: Option<Program>,
+    all: Option<Program>,
+}
+
+impl BatchEval {
+    /// Compiles a tape.
+    pub fn new(tape: &Tape) -> Self {
+        let n = tape.nodes.len();
+        let mut alias = Vec::with_capacity(n);
+        let mut loc = Vec::with_capacity(n);
+        let mut uni_nodes = Vec::new();
+        for (i, node) in tape.nodes.iter().enumerate() {
+            if let Node::Check(_, v) = *node {
+                let r = alias[v.index()] as usize;
+                alias.push(r as u32);
+                loc.push(loc[r]);
+                continue;
+            }
+            alias.push(i as u32);
+            let res = |c: NodeId| alias[c.index()] as usize;
+            let uniform = match *node {
+                Node::X(k) => k >= 3,
+                Node::Const(_) | Node::Param(_) | Node::Error(_) => true,
+                _ => node.children().all(|c| loc[res(c)] != Loc::Var),
+            };
+            if uniform {
+                let mapped = node.map_children(|c| match loc[res(c)] {
+                    Loc::Uni(u) => NodeId(u),
+                    Loc::Var => unreachable!("uniform node with a varying child"),
+                });
+                loc.push(Loc::Uni(uni_nodes.len() as u32));
+                uni_nodes.push(mapped);
+            } else {
+                loc.push(Loc::Var);
+            }
+        }
+        BatchEval {
+            tape: tape.clone(),
+            alias,
+            loc,
+            uni: vec![0.0; uni_nodes.len()],
+            uni_nodes,
+            uni_inputs: None,
+            first: None,
+            all: None,
+        }
+    }
+
+    /// The tape this evaluator runs.
+    pub fn tape(&self) -> &Tape {
+        &self.tape
+    }
+
+    /// Number of instructions run per block for output 0 (uniform values
+    /// excluded), and number of registers used.
+    pub fn program_size(&mut self) -> (usize, usize) {
+        let p = self.program(false);
+        (p.instrs.len(), p.regs.len())
+    }
+
+    fn program(&mut self, all: bool) -> &mut Program {
+        let slot = if all { &mut self.all } else { &mut self.first };
+        if slot.is_none() {
+            let outs: Vec<NodeId> = if all {
+                self.tape.outputs.clone()
+            } else {
+                self.tape.outputs.iter().take(1).copied().collect()
+            };
+            *slot = Some(compile(&self.tape, &self.alias, &self.loc, &outs));
+        }
+        slot.as_mut().expect("compiled above")
+    }
+
+    fn update_uniforms(&mut self, inputs: &Inputs) {
+        // Bitwise comparison: -0.0 and 0.0 are different inputs, a NaN the
+        // same as itself.
+        let same = |a: &[f64], b: &[f64]| {
+            a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
+        };
+        if let Some(prev) = &self.uni_inputs {
+            if same(&prev.params, &inputs.params) && same(&prev.extra_x, &inputs.extra_x) {
+                return;
+            }
+        }
+        for i in 0..self.uni_nodes.len() {
+            let u = &self.uni;
+            let g = |c: NodeId| u[c.index()];
+            let v = match self.uni_nodes[i] {
+                Node::Const(b) => f64::from_bits(b),
+                Node::X(k) => inputs.extra_x(k),
+                Node::Param(k) => inputs.param(k),
+                Node::Error(_) => f64::NAN,
+                Node::Unary(op, a) => unary_lane(op, g(a)),
+                Node::Binary(op, a, b) => binary_lane(op, g(a), g(b)),
+                Node::PowI(a, n) => pow_int_lane(g(a), n),
+                Node::Select(c, t, e) => select_lane(g(c), g(t), g(e)),
+                Node::Blend(op, a) => ops::blend(op, g(a[0]), g(a[1]), g(a[2]), g(a[3]), g(a[4])),
+                Node::Check(_, v) => g(v),
+            };
+            self.uni[i] = v;
+        }
+        self.uni_inputs = Some(inputs.clone());
+    }
+
+    /// Evaluates output 0 at the points `(xs[i], ys[i], zs[i])` into `out[i]`.
+    ///
+    /// # Panics
+    /// If the four slices differ in length.
+    pub fn eval(&mut self, xs: &[f64], ys: &[f64], zs: &[f64], inputs: &Inputs, out: &mut [f64]) {
+        assert!(
+            xs.len() == out.len() && ys.len() == out.len() && zs.len() == out.len(),
+            "BatchEval::eval: slices of different lengths"
+        );
+        self.update_uniforms(inputs);
+        let uni = std::mem::take(&mut self.uni);
+        let prog = self.program(false);
+        run(prog, &uni, xs, ys, zs, &mut [out]);
+        self.uni = uni;
+    }
+
+    /// Evaluates every output of the tape (the value, then the attributes)
+    /// at the points; `outs[k]` is resized to the number of points and
+    /// receives output `k`.
+    ///
+    /// # Panics
+    /// If `xs`, `ys`, `zs` differ in length, or `outs` does not have one
+    /// vector per tape output.
+    pub fn eval_outputs(
+        &mut self,
+        xs: &[f64],
+        ys: &[f64],
+        zs: &[f64],
+        inputs: &Inputs,
+        outs: &mut [Vec<f64>],
+    ) {
+        let n = xs.len();
+        assert!(
+            ys.len() == n && zs.len() == n,
+            "BatchEval::eval_outputs: slices of different lengths"
+        );
+        assert_eq!(
+            outs.len(),
+            self.tape.outputs.len(),
+            "BatchEval::eval_outputs: one vector per output"
+        );
+        self.update_uniforms(inputs);
+        let uni = std::mem::take(&mut self.uni);
+        let prog = self.program(true);
+        for o in outs.iter_mut() {
+            o.clear();
+            o.resize(n, 0.0);
+        }
+        let mut slices: Vec<&mut [f64]> = outs.iter_mut().map(|o| o.as_mut_slice()).collect();
+        run(prog, &uni, xs, ys, zs, &mut slices);
+        self.uni = uni;
+    }
+}
+
+/// Builds the register program computing `outputs`.
+fn compile(tape: &Tape, alias: &[u32], loc: &[Loc], outputs: &[NodeId]) -> Program {
+    let n = tape.nodes.len();
+    let res = |c: NodeId| alias[c.index()] as usize;
+    // Needed varying nodes (guards of checks are skipped: `alias` resolves
+    // every Check to its value, so guards are never children here).
+    let mut needed = vec![false; n];
+    for &o in outputs {
+        needed[res(o)] = true;
+    }
+    for i in (0..n).rev() {
+        if needed[i] && loc[i] == Loc::Var {
+            for c in tape.nodes[i].children() {
+                needed[res(c)] = true;
+            }
+        }
+    }
+    const KEEP: u32 = u32::MAX;
+    let mut last = vec![0u32; n];
+    for i in 0..n {
+        if needed[i] && loc[i] == Loc::Var {
+            for c in tape.nodes[i].children() {
+                last[res(c)] = i as u32;
+            }
+        }
+    }
+    for &o in outputs {
+        last[res(o)] = KEEP;
+    }
+
+    let mut st = Alloc {
+        reg: vec![u32::MAX; n],
+        n_regs: 3, // 0, 1, 2: x, y, z
+        free: Vec::new(),
+        bcast: Vec::new(),
+        bcast_of: std::collections::HashMap::new(),
+    };
+    let mut xyz = [false; 3];
+    let mut instrs = Vec::new();
+    for i in 0..n {
+        if !(needed[i] && loc[i] == Loc::Var) || alias[i] as usize != i {
+            continue;
+        }
+        let node = tape.nodes[i];
+        if let Node::X(k) = node {
+            // Varying coordinates are k < 3.
+            xyz[k as usize] = true;
+            st.reg[i] = k;
+            continue;
+        }
+        let mut opr = |c: NodeId| st.operand(loc, res(c));
+        let instr = match node {
+            Node::Unary(op, a) => Instr::Unary(op, 0, opr(a)),
+            Node::PowI(a, k) => Instr::PowI(0, opr(a), k),
+            Node::Select(c, t, e) => Instr::Select(0, [c, t, e].map(opr)),
+            Node::Blend(op, args) => Instr::Blend(op, 0, args.map(opr)),
+            Node::Binary(op, a, b) => {
+                let src = |c: NodeId| {
+                    let r = res(c);
+                    match loc[r] {
+                        Loc::Var => Src::Reg(st.reg[r]),
+                        Loc::Uni(u) => Src::Uni(u),
+                    }
+                };
+                Instr::Binary(op, 0, src(a), src(b))
+            }
+            Node::Const(_) | Node::X(_) | Node::Param(_) | Node::Error(_) | Node::Check(..) => {
+                unreachable!("uniform or aliased node")
+            }
+        };
+        // The destination is allocated before the operands are freed, so it
+        // never equals an operand register.
+        let dst = st.alloc();
+        st.reg[i] = dst;
+        instrs.push(match instr {
+            Instr::Unary(op, _, a) => Instr::Unary(op, dst, a),
+            Instr::Binary(op, _, a, b) => Instr::Binary(op, dst, a, b),
+            Instr::PowI(_, a, k) => Instr::PowI(dst, a, k),
+            Instr::Select(_, o) => Instr::Select(dst, o),
+            Instr::Blend(op, _, o) => Instr::Blend(op, dst, o),
+        });
+        // Free the registers of operands used for the last time.
+        let mut seen = [usize::MAX; 5];
+        for (j, c) in node.children().enumerate() {
+            let r = res(c);
+            if loc[r] == Loc::Var && last[r] == i as u32 && !seen.contains(&r) {
+                seen[j] = r;
+                if !matches!(tape.nodes[r], Node::X(_)) {
+                    st.free.push(st.reg[r]);
+                }
+            }
+        }
+    }
+    let Alloc {
+        reg, n_regs, bcast, ..
+    } = st;
+    let outputs = outputs
+        .iter()
+        .map(|&o| {
+            let r = res(o);
+            match loc[r] {
+                Loc::Var => Src::Reg(reg[r]),
+                Loc::Uni(u) => Src::Uni(u),
+            }
+        })
+        .collect();
+    Program {
+        instrs,
+        bcast,
+        outputs,
+        xyz,
+        regs: vec![[0.0; LANES]; n_regs as usize],
+    }
+}
+
+/// Register allocation state of [`compile`].
+struct Alloc {
+    reg: Vec<u32>,
+    n_regs: u32,
+    free: Vec<u32>,
+    bcast: Vec<(u32, u32)>,
+    bcast_of: std::collections::HashMap<u32, u32>,
+}
+
+impl Alloc {
+    fn alloc(&mut self) -> u32 {
+        self.free.pop().unwrap_or_else(|| {
+            self.n_regs += 1;
+            self.n_regs - 1
+        })
+    }
+
+    /// The register of an operand; a uniform one is broadcast into a
+    /// register filled once per call.
+    fn operand(&mut self, loc: &[Loc], r: usize) -> u32 {
+        match loc[r] {
+            Loc::Var => self.reg[r],
+            Loc::Uni(u) => {
+                if let Some(&b) = self.bcast_of.get(&u) {
+                    return b;
+                }
+                // A fresh register, never freed: one from the free list was
+                // used earlier in the program and would be overwritten by
+                // the next block.
+                let b = self.n_regs;
+                self.n_regs += 1;
+                self.bcast.push((b, u));
+                self.bcast_of.insert(u, b);
+                b
+            }
+        }
+    }
+}
+
+/// Disjoint access to a destination register and `K` source registers
+/// (sources may repeat but never equal the destination).
+#[inline]
+fn split<const K: usize>(
+    regs: &mut [Block],
+    dst: u32,
+    srcs: [u32; K],
+) -> (&mut Block, [&Block; K]) {
+    let dst = dst as usize;
+    let (lo, rest) = regs.split_at_mut(dst);
+    let (d, hi) = rest.split_first_mut().expect("destination register exists");
+    let (lo, hi): (&[Block], &[Block]) = (lo, hi);
+    let s = srcs.map(|s| {
+        let s = s as usize;
+        if s < dst {
+            &lo[s]
+        } else {
+            &hi[s - dst - 1]
+        }
+    });
+    (d, s)
+}
+
+fn run(
+    prog: &mut Program,
+    uni: &[f64],
+    xs: &[f64],
+    ys: &[f64],
+    zs: &[f64],
+    outs: &mut [&mut [f64]],
+) {
+    let n = xs.len();
+    for &(r, u) in &prog.bcast {
+        prog.regs[r as usize] = [uni[u as usize]; LANES];
+    }
+    let mut start = 0;
+    while start < n {
+        let m = LANES.min(n - start);
+        for (k, input) in [xs, ys, zs].into_iter().enumerate() {
+            if prog.xyz[k] {
+                prog.regs[k][..m].copy_from_slice(&input[start..start + m]);
+            }
+        }
+        for ins in &prog.instrs {
+            exec(ins, &mut prog.regs, uni, m);
+        }
+        for (o, src) in outs.iter_mut().zip(&prog.outputs) {
+            let o = &mut o[start..start + m];
+            match *src {
+                Src::Reg(r) => o.copy_from_slice(&prog.regs[r as usize][..m]),
+                Src::Uni(u) => o.fill(uni[u as usize]),
+            }
+        }
+        start += m;
+    }
+    for o in outs.iter_mut().skip(prog.outputs.len()) {
+        o.fill(f64::NAN);
+    }
+}
+
+/// A binary operand over the active lanes: a register slice or a scalar.
+trait Operand: Copy {
+    fn lanes(self) -> impl Iterator<Item = f64>;
+}
+
+impl Operand for &[f64] {
+    #[inline(always)]
+    fn lanes(self) -> impl Iterator<Item = f64> {
+        self.iter().copied()
+    }
+}
+
+impl Operand for f64 {
+    #[inline(always)]
+    fn lanes(self) -> impl Iterator<Item = f64> {
+        std::iter::repeat(self)
+    }
+}
+
+#[inline(always)]
+fn zip2(d: &mut [f64], a: impl Operand, b: impl Operand, f: impl Fn(f64, f64) -> f64) {
+    for ((o, x), y) in d.iter_mut().zip(a.lanes()).zip(b.lanes()) {
+        *o = f(x, y);
+    }
+}
+
+fn binary_kernel(op: BinaryOp, d: &mut [f64], a: impl Operand, b: impl Operand) {
+    macro_rules! each {
+        ($($v:ident),*) => {
+            match op {
+                $(BinaryOp::$v => zip2(d, a, b, |x, y| binary_lane(BinaryOp::$v, x, y)),)*
+            }
+        };
+    }
+    each!(
+        Add, Sub, Mul, Div, DivF, Pow, PowF, Min, Max, Atan2, Mod, RUnion, RInter, RDiff, Lt, Gt,
+        Le, Ge, Eq, Ne, And, Or
+    );
+}
+
+fn unary_kernel(op: UnaryOp, d: &mut [f64], a: &[f64]) {
+    macro_rules! each {
+        ($($v:ident),*) => {
+            match op {
+                UnaryOp::Sin => sm::sin_slice(a, d),
+                UnaryOp::Cos => sm::cos_slice(a, d),
+                UnaryOp::Tan => sm::tan_checked_slice(a, d),
+                $(UnaryOp::$v => sm::map(a, d, |x| unary_lane(UnaryOp::$v, x)),)*
+            }
+        };
+    }
+    each!(
+        Neg,
+        Abs,
+        Sqrt,
+        SqrtF,
+        Exp,
+        Log,
+        Logd,
+        Asin,
+        Acos,
+        Atan,
+        Sinh,
+        Cosh,
+        Tanh,
+        Ceil,
+        Floor,
+        Trunc,
+        Frac,
+        Not,
+        RoundHalfUp
+    );
+}
+
+fn pow_int_kernel(d: &mut [f64], a: &[f64], n: i32) {
+    let m = n.unsigned_abs();
+    if m == 0 {
+        d.fill(1.0);
+    } else if f64::from(m) <= ops::POW_LOOP_MAX {
+        // 1.0 * b == b exactly, so start from b.
+        d.copy_from_slice(a);
+        for _ in 1..m {
+            for (o, &x) in d.iter_mut().zip(a) {
+                *o *= x;
+            }
+        }
+    } else {
+        sm::map(a, d, |x| x.powf(f64::from(m)));
+    }
+    if n < 0 {
+        for o in d.iter_mut() {
+            *o = 1.0 / *o;
+        }
+    }
+    let z = if n <= 0 { f64::NAN } else { 0.0 };
+    for (o, &x) in d.iter_mut().zip(a) {
+        *o = sel(x.abs() < EPS, z, *o);
+    }
+}
+
+#[inline]
+fn exec(ins: &Instr, regs: &mut [Block], uni: &[f64], m: usize) {
+    match *ins {
+        Instr::Unary(op, dst, a) => {
+            let (d, [a]) = split(regs, dst, [a]);
+            unary_kernel(op, &mut d[..m], &a[..m]);
+        }
+        Instr::Binary(op, dst, a, b) => match (a, b) {
+            (Src::Reg(a), Src::Reg(b)) => {
+                let (d, [a, b]) = split(regs, dst, [a, b]);
+                binary_kernel(op, &mut d[..m], &a[..m], &b[..m]);
+            }
+            (Src::Reg(a), Src::Uni(u)) => {
+                let (d, [a]) = split(regs, dst, [a]);
+                binary_kernel(op, &mut d[..m], &a[..m], uni[u as usize]);
+            }
+            (Src::Uni(u), Src::Reg(b)) => {
+                let (d, [b]) = split(regs, dst, [b]);
+                binary_kernel(op, &mut d[..m], uni[u as usize], &b[..m]);
+            }
+            (Src::Uni(u), Src::Uni(v)) => {
+                let r = binary_lane(op, uni[u as usize], uni[v as usize]);
+                regs[dst as usize][..m].fill(r);
+            }
+        },
+        Instr::PowI(dst, a, n) => {
+            let (d, [a]) = split(regs, dst, [a]);
+            pow_int_kernel(&mut d[..m], &a[..m], n);
+        }
+        Instr::Select(dst, s) => {
+            let (d, [c, t, e]) = split(regs, dst, s);
+            for (((o, &c), &t), &e) in d[..m].iter_mut().zip(&c[..m]).zip(&t[..m]).zip(&e[..m]) {
+                *o = select_lane(c, t, e);
+            }
+        }
+        Instr::Blend(op, dst, s) => {
+            let (d, [f1, f2, a0, a1, a2]) = split(regs, dst, s);
+            let it = d[..m]
+                .iter_mut()
+                .zip(&f1[..m])
+                .zip(&f2[..m])
+                .zip(&a0[..m])
+                .zip(&a1[..m])
+                .zip(&a2[..m]);
+            match op {
+                BlendOp::Union => {
+                    for (((((o, &f1), &f2), &a0), &a1), &a2) in it {
+                        *o = ops::blend(BlendOp::Union, f1, f2, a0, a1, a2);
+                    }
+                }
+                BlendOp::Inter => {
+                    for (((((o, &f1), &f2), &a0), &a1), &a2) in it {
+                        *o = ops::blend(BlendOp::Inter, f1, f2, a0, a1, a2);
+                    }
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,140 @@
+//! The seam where the ray caster plugs in: the image is cut into tiles, each
+//! tile is cast by a [`TileCaster`] (which may prune it with the tile's
+//! [`Frustum`] and interval arithmetic), and tiles run in parallel with rayon.
+
+use rayon::prelude::*;
+
+use crate::camera::{Camera, Frustum};
+use crate::image::{Hit, HitBuffer};
+
+/// A pixel rectangle `[x0, x1) × [y0, y1)` of a `width`×`height` image.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Tile {
+    /// Left pixel column (inclusive).
+    pub x0: u32,
+    /// Top pixel row (inclusive).
+    pub y0: u32,
+    /// Right pixel column (exclusive).
+    pub x1: u32,
+    /// Bottom pixel row (exclusive).
+    pub y1: u32,
+    /// Width of the whole image.
+    pub width: u32,
+    /// Height of the whole image.
+    pub height: u32,
+}
+
+impl Tile {
+    /// Tile width in pixels.
+    pub fn w(&self) -> u32 {
+        self.x1 - self.x0
+    }
+
+    /// Tile height in pixels.
+    pub fn h(&self) -> u32 {
+        self.y1 - self.y0
+    }
+
+    /// The frustum of this tile's rays.
+    pub fn frustum(&self, camera: &Camera) -> Frustum {
+        camera.tile_frustum(self.x0, self.y0, self.x1, self.y1, self.width, self.height)
+    }
+}
+
+/// Cuts a `width`×`height` image into tiles of at most `size`×`size` pixels,
+/// row by row from the top-left.
+pub fn tiles(width: u32, height: u32, size: u32) -> Vec<Tile> {
+    let size = size.max(1);
+    let mut out = Vec::new();
+    for y0 in (0..height).step_by(size as usize) {
+        for x0 in (0..width).step_by(size as usize) {
+            out.push(Tile {
+                x0,
+                y0,
+                x1: (x0 + size).min(width),
+                y1: (y0 + size).min(height),
+                width,
+                height,
+            });
+        }
+    }
+    out
+}
+
+/// Something that finds ray hits for a tile of pixels: the ray caster.
+pub trait TileCaster: Sync {
+    /// Casts the rays of `tile` (pixel centres, see [`Camera::ray`]) and writes
+    /// one entry per pixel into `out`, row-major within the tile
+    /// (`out.len() == tile.w() * tile.h()`, all `None` on entry).
+    fn cast_tile(&self, camera: &Camera, tile: &Tile, out: &mut [Option<Hit>]);
+}
+
+impl<F> TileCaster for F
+where
+    F: Fn(&Camera, &Tile, &mut [Option<Hit>]) + Sync,
+{
+    fn cast_tile(&self, camera: &Camera, tile: &Tile, out: &mut [Option<Hit>]) {
+        self(camera, tile, out)
+    }
+}
+
+/// Casts a whole image tile by tile, tiles in parallel (rayon), and gathers
+/// the hits into a [`HitBuffer`].
+pub fn cast_tiled(
+    caster: &dyn TileCaster,
+    camera: &Camera,
+    width: u32,
+    height: u32,
+    tile_size: u32,
+) -> HitBuffer {
+    let tiles = tiles(width, height, tile_size);
+    let results: Vec<(Tile, Vec<Option<Hit>>)> = tiles
+        .into_par_iter()
+        .map(|t| {
+            let mut out = vec![None; (t.w() * t.h()) as usize];
+            caster.cast_tile(camera, &t, &mut out);
+            (t, out)
+        })
+        .collect();
+    let mut buf = HitBuffer::new(*camera, width, height);
+    for (t, out) in results {
+        for row in 0..t.h() {
+            let d = ((t.y0 + row) * width + t.x0) as usize;
+            let s = (row * t.w()) as usize;
+            buf.hits[d..d + t.w() as usize].copy_from_slice(&out[s..s + t.w() as usize]);
+        }
+    }
+    buf
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::camera::Aabb;
+    use crate::synthetic::{sphere_hits, SphereCaster};
+
+    #[test]
+    fn tiles_cover_the_image_once() {
+        let ts = tiles(70, 33, 16);
+        assert_eq!(ts.len(), 5 * 3);
+        let area: u32 = ts.iter().map(|t| t.w() * t.h()).sum();
+        assert_eq!(area, 70 * 33);
+        assert_eq!(ts.last().unwrap().x1, 70);
+        assert_eq!(ts.last().unwrap().y1, 33);
+    }
+
+    #[test]
+    fn tiled_cast_equals_per_pixel_cast() {
+        let b = Aabb::new([-1.0; 3], [1.0; 3]);
+        let cam = Camera::orbit(&b, 20.0, 30.0, Some(40.0));
+        let caster = SphereCaster {
+            center: [0.1, 0.0, 0.0],
+            radius: 0.7,
+            color: None,
+        };
+        let tiled = cast_tiled(&caster, &cam, 45, 37, 8);
+        let direct = sphere_hits(&cam, 45, 37, [0.1, 0.0, 0.0], 0.7, None);
+        assert_eq!(tiled.hits, direct.hits);
+        assert!(tiled.hit_count() > 100);
+    }
+}
