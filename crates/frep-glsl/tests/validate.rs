@@ -361,3 +361,65 @@ fn dump_when_asked() {
     }
     std::fs::write(format!("{dir}/fullscreen.vert"), vertex_shader()).unwrap();
 }
+
+/// Every conformance model, example and corpus file compiles to a shader
+/// that glslangValidator accepts (files the compiler rejects are skipped).
+#[test]
+fn hyperfun_files_validate() {
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
+    let mut files = Vec::new();
+    for dir in [
+        format!("{root}/examples"),
+        "/work/shared/hyperfun/conformance".to_string(),
+        "/work/shared/hyperfun/corpus".to_string(),
+    ] {
+        match std::fs::read_dir(&dir) {
+            Ok(rd) => {
+                let mut v: Vec<_> = rd
+                    .filter_map(|e| e.ok().map(|e| e.path()))
+                    .filter(|p| p.extension().is_some_and(|e| e == "hf"))
+                    .collect();
+                v.sort();
+                files.extend(v);
+            }
+            Err(_) => eprintln!("note: {dir} absent, skipped"),
+        }
+    }
+    let mut failures = Vec::new();
+    let (mut ok, mut skipped) = (0, 0);
+    for f in &files {
+        let src = std::fs::read_to_string(f).unwrap();
+        let model = match frep_core::Model::compile(&src) {
+            Ok(m) => m,
+            Err(_) => {
+                skipped += 1;
+                continue;
+            }
+        };
+        let t = std::time::Instant::now();
+        let sh = frep_glsl::shader_for_model(&model, &ShaderOptions::default());
+        let gen = t.elapsed();
+        match common::validate_frag(&sh.source) {
+            Ok(()) => ok += 1,
+            Err(log) => failures.push(format!(
+                "{}: {}",
+                f.display(),
+                log.lines().take(5).collect::<Vec<_>>().join(" | ")
+            )),
+        }
+        if sh.stats.tape_nodes > 1000 {
+            eprintln!(
+                "{}: {} nodes, {} bytes, generated in {gen:?}",
+                f.display(),
+                sh.stats.tape_nodes,
+                sh.source.len()
+            );
+        }
+    }
+    eprintln!(
+        "{ok} shaders valid, {skipped} files not compiled, {} rejected",
+        failures.len()
+    );
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+    assert!(ok > 0);
+}
