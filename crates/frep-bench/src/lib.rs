@@ -4,12 +4,16 @@
 //! `shared/notes/rendering-and-meshing.md`; their HyperFun sources live in the
 //! workspace's `examples/` folder (`m1_sphere.hf` … `m4_rblend10.hf`), and
 //! the `anchors` module builds the same fields in fidget (behind the `anchors` feature,
-//! so that ordinary workspace builds do not compile fidget).
+//! so that ordinary workspace builds do not compile fidget); `to_fidget`
+//! translates any compiled frep model into a fidget tree, so that the `core`
+//! benchmark can run the same evaluations in both.
 
 #![warn(missing_docs)]
 
 #[cfg(feature = "anchors")]
 pub mod anchors;
+#[cfg(feature = "anchors")]
+pub mod to_fidget;
 
 /// The benchmark box: every model is measured on `[-1, 1]³`.
 pub const BOX_MIN: f32 = -1.0;

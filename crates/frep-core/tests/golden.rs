@@ -9,10 +9,10 @@ use frep_core::{CompileOptions, Inputs, Model, PointEval};
 #[test]
 fn point_evaluator_reproduces_every_golden_file() {
     let models = golden_models();
-    assert!(
-        models.len() >= 48,
-        "only {} golden models found",
-        models.len()
+    assert_eq!(
+        models.len(),
+        common::expected_golden_models(),
+        "golden files missing"
     );
     let mut failures = Vec::new();
     let mut checked = 0;

@@ -7,7 +7,7 @@
 //! - [`tiles`]: the seam for the caster ([`TileCaster`]) and the parallel
 //!   tile driver ([`cast_tiled`]);
 //! - [`image`]: images, hit buffers and shading ([`shade`]);
-//! - [`encode`]: PNG, JPEG and lossy WebP encoders;
+//! - [`mod@encode`]: PNG, JPEG and lossy WebP encoders;
 //! - [`progressive`]: coarse-to-fine frame plans and upscaling;
 //! - [`viewset`]: turntable view sets with a sprite sheet and JSON index;
 //! - [`slices`]: grid sampling through a batch callback, PNG slice stacks and

@@ -118,3 +118,20 @@ pub fn golden_models() -> Vec<(String, Golden)> {
 pub fn close(a: f64, b: f64) -> bool {
     a == b || (a - b).abs() <= 1e-12 || (a - b).abs() <= 1e-9 * a.abs().max(b.abs())
 }
+
+/// How many golden models must be found: every conformance model, plus every
+/// corpus model when the corpus is present.
+pub fn expected_golden_models() -> usize {
+    let count = |d: &Path| {
+        std::fs::read_dir(d)
+            .map(|r| {
+                r.filter(|e| {
+                    e.as_ref()
+                        .is_ok_and(|e| e.path().extension().is_some_and(|x| x == "hf"))
+                })
+                .count()
+            })
+            .unwrap_or(0)
+    };
+    count(&data_dir().join("conformance")) + corpus_dir().map_or(0, |c| count(&c))
+}
