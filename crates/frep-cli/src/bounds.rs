@@ -1,64 +1,87 @@
-//! The model box: `--bounds` values and the `-- bounds:` comment line of
-//! the examples.
+//! What several subcommands read the same way: the model box and the
+//! parameters.
+//!
+//! The box is `--bounds` (hfp's `-b` forms: `v`, `min,max`, `xs,ys,zs`,
+//! `x0,y0,z0,x1,y1,z1`), else the model file's `-- bounds: x0,y0,z0,x1,y1,z1`
+//! comment line (the examples have one), else the model's extent found by
+//! interval arithmetic, else hfp's default `[-10, 10]³`.
 
-/// Parses six comma-separated numbers `x0,y0,z0,x1,y1,z1` into the corners
-/// `(min, max)` (each coordinate sorted).
-pub fn parse_bounds(text: &str) -> Result<([f64; 3], [f64; 3]), String> {
-    let v: Vec<f64> = text
-        .split(',')
-        .map(|s| {
-            s.trim()
-                .parse::<f64>()
-                .map_err(|_| format!("`{}` is not a number", s.trim()))
-        })
-        .collect::<Result<_, _>>()?;
-    if v.len() != 6 || v.iter().any(|x| !x.is_finite()) {
-        return Err(format!(
-            "expected six finite numbers x0,y0,z0,x1,y1,z1, got `{text}`"
-        ));
-    }
-    let min = [v[0].min(v[3]), v[1].min(v[4]), v[2].min(v[5])];
-    let max = [v[0].max(v[3]), v[1].max(v[4]), v[2].max(v[5])];
-    if (0..3).any(|k| min[k] == max[k]) {
-        return Err(format!("the box `{text}` is flat"));
-    }
-    Ok((min, max))
-}
+use anyhow::Context;
+use frep_core::{Inputs, Model};
+use frep_mesh::poly::bounds::{detect, parse_box, HFP_DEFAULT};
 
-/// The box from the first `-- bounds: x0,y0,z0,x1,y1,z1` comment line of a
-/// model's source, if any.
-pub fn bounds_from_source(source: &str) -> Option<([f64; 3], [f64; 3])> {
+/// The `-- bounds:` line among the comment lines heading a model's source.
+pub fn bounds_from_source(source: &str) -> Option<[f64; 6]> {
     source
         .lines()
-        .find_map(|l| l.trim().strip_prefix("-- bounds:"))
-        .and_then(|rest| parse_bounds(rest).ok())
+        .take_while(|l| l.trim_start().starts_with("--") || l.trim().is_empty())
+        .find_map(|l| l.trim_start().strip_prefix("-- bounds:"))
+        .and_then(|b| parse_box(b.trim()).ok())
 }
 
-/// HyperFun's default box (`hfp`'s `-b 10`): `[-10, 10]³`.
-pub const DEFAULT_BOUNDS: ([f64; 3], [f64; 3]) = ([-10.0; 3], [10.0; 3]);
+/// The box to work in, and where it came from (for messages).
+pub fn model_box(
+    arg: Option<&str>,
+    source: &str,
+    model: &Model,
+    inputs: &Inputs,
+) -> anyhow::Result<([f64; 6], &'static str)> {
+    if let Some(b) = arg {
+        let b = parse_box(b).map_err(|e| anyhow::anyhow!("--bounds: {e}"))?;
+        return Ok((b, "--bounds"));
+    }
+    Ok(match bounds_from_source(source) {
+        Some(b) => (b, "the model's bounds comment"),
+        None => match detect(model, inputs) {
+            Some(b) => (b, "detected extent"),
+            None => (HFP_DEFAULT, "hfp default, no extent found"),
+        },
+    })
+}
+
+/// Comma-separated numbers of an option.
+pub fn numbers(text: &str, option: &str) -> anyhow::Result<Vec<f64>> {
+    text.split(',')
+        .map(|t| {
+            t.trim()
+                .parse::<f64>()
+                .with_context(|| format!("{option}: `{}` is not a number", t.trim()))
+        })
+        .collect()
+}
+
+/// The model's parameters `a[]` from `--param a1,a2,…`.
+pub fn inputs(param: Option<&str>) -> anyhow::Result<Inputs> {
+    Ok(match param {
+        Some(p) => Inputs::with_params(&numbers(p, "--param")?),
+        None => Inputs::default(),
+    })
+}
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
-    fn parses_and_sorts() {
+    fn reads_the_bounds_comment() {
+        let src =
+            "-- description: x\n-- bounds: -1,-2,-3,1,2,3\nmy_model(x[3], a[1]) { my_model = 1; }";
         assert_eq!(
-            parse_bounds("1,-1, -2,-1,1,2"),
-            Ok(([-1.0, -1.0, -2.0], [1.0, 1.0, 2.0]))
+            bounds_from_source(src),
+            Some([-1.0, -2.0, -3.0, 1.0, 2.0, 3.0])
         );
-        assert!(parse_bounds("1,2,3").is_err());
-        assert!(parse_bounds("0,0,0,1,1,x").is_err());
-        assert!(parse_bounds("0,0,0,1,1,0").is_err());
+        assert_eq!(bounds_from_source("m(x[3], a[1]) { m = 1; }"), None);
     }
 
     #[test]
-    fn reads_comment_line() {
-        let src = "-- description: x\n-- bounds: -0.5,-1,-1,0.5,1,1\nm(x[3], a[1]) { m = 1; }";
-        assert_eq!(
-            bounds_from_source(src),
-            Some(([-0.5, -1.0, -1.0], [0.5, 1.0, 1.0]))
-        );
-        assert_eq!(bounds_from_source("m(x[3], a[1]) { m = 1; }"), None);
+    fn falls_back_to_the_extent() {
+        let src = "my_model(x[3], a[1]) { my_model = 4 - x[1]^2 - x[2]^2 - x[3]^2; }";
+        let model = Model::compile(src).unwrap();
+        let (b, origin) = model_box(None, src, &model, &Inputs::default()).unwrap();
+        assert_eq!(origin, "detected extent");
+        assert!(b[0] <= -2.0 && b[3] >= 2.0 && b[3] < 4.0, "{b:?}");
+        let (b, _) = model_box(Some("3"), src, &model, &Inputs::default()).unwrap();
+        assert_eq!(b, [-3.0, -3.0, -3.0, 3.0, 3.0, 3.0]);
+        assert!(inputs(Some("1,x")).is_err());
     }
 }

@@ -11,7 +11,7 @@ use frep_render::{
     ImageFormat, ProgressivePlan, RenderSettings, SliceOptions, ViewSetOptions,
 };
 
-use crate::bounds::{bounds_from_source, parse_bounds, DEFAULT_BOUNDS};
+use crate::bounds::{inputs, numbers};
 
 /// Options of `frep render`.
 #[derive(clap::Args)]
@@ -87,16 +87,6 @@ pub struct SlicesArgs {
     pub body: Option<String>,
 }
 
-fn numbers(text: &str, what: &str) -> anyhow::Result<Vec<f64>> {
-    text.split(',')
-        .map(|s| {
-            s.trim()
-                .parse::<f64>()
-                .with_context(|| format!("{what}: `{}` is not a number", s.trim()))
-        })
-        .collect()
-}
-
 fn load(path: &Path, body: Option<String>) -> anyhow::Result<Option<(String, Model)>> {
     match crate::load(path, body)? {
         Ok(m) => Ok(Some(m)),
@@ -107,19 +97,14 @@ fn load(path: &Path, body: Option<String>) -> anyhow::Result<Option<(String, Mod
     }
 }
 
-fn model_box(arg: Option<&str>, source: &str) -> anyhow::Result<Aabb> {
-    let (min, max) = match arg {
-        Some(b) => parse_bounds(b).map_err(|e| anyhow::anyhow!("--bounds: {e}"))?,
-        None => bounds_from_source(source).unwrap_or(DEFAULT_BOUNDS),
-    };
-    Ok(Aabb::new(min, max))
-}
-
-fn inputs(param: Option<&str>) -> anyhow::Result<Inputs> {
-    Ok(match param {
-        Some(p) => Inputs::with_params(&numbers(p, "--param")?),
-        None => Inputs::default(),
-    })
+fn model_box(
+    arg: Option<&str>,
+    source: &str,
+    model: &Model,
+    inputs: &Inputs,
+) -> anyhow::Result<Aabb> {
+    let (b, _) = crate::bounds::model_box(arg, source, model, inputs)?;
+    Ok(Aabb::new([b[0], b[1], b[2]], [b[3], b[4], b[5]]))
 }
 
 /// `frep render`.
@@ -134,15 +119,16 @@ pub fn render(args: RenderArgs) -> anyhow::Result<ExitCode> {
     if !(w >= 1.0 && h >= 1.0 && w <= 16384.0 && h <= 16384.0) {
         bail!("--size: {w},{h} is outside 1..=16384");
     }
+    let inputs = inputs(args.param.as_deref())?;
     let settings = RenderSettings {
         size: (w as u32, h as u32),
         yaw: args.yaw,
         pitch: args.pitch,
         fov: (!args.ortho).then_some(args.fov),
-        bounds: model_box(args.bounds.as_deref(), &source)?,
+        bounds: model_box(args.bounds.as_deref(), &source, &model, &inputs)?,
         quality: args.quality.clamp(1, 100),
         ao: args.ao,
-        inputs: inputs(args.param.as_deref())?,
+        inputs,
         ..Default::default()
     };
     if let Some(n) = args.views {
@@ -222,7 +208,8 @@ pub fn slices(args: SlicesArgs) -> anyhow::Result<ExitCode> {
     let Some((source, model)) = load(&args.model, args.body.clone())? else {
         return Ok(ExitCode::from(1));
     };
-    let bounds = model_box(args.bounds.as_deref(), &source)?;
+    let inputs = inputs(args.param.as_deref())?;
+    let bounds = model_box(args.bounds.as_deref(), &source, &model, &inputs)?;
     let g = numbers(&args.grid, "--grid")?;
     let n: [usize; 3] = match g.as_slice() {
         [n] => [*n as usize; 3],
@@ -232,7 +219,6 @@ pub fn slices(args: SlicesArgs) -> anyhow::Result<ExitCode> {
     if n.iter().any(|&k| !(1..=2048).contains(&k)) {
         bail!("--grid: each size must be 1..=2048");
     }
-    let inputs = inputs(args.param.as_deref())?;
     let tape = model.tape();
     let grid = sample_grid(&bounds, n, |xs, ys, zs, out| {
         BatchEval::new(&tape).eval(xs, ys, zs, &inputs, out)
