@@ -226,31 +226,28 @@ impl Camera {
     /// The ray through the continuous image point `(x, y)` (pixel units,
     /// `(0, 0)` the top-left corner of the image, y down).
     pub fn ray_at(&self, x: f64, y: f64, width: u32, height: u32) -> Ray {
+        self.rays(width, height).ray_at(x, y)
+    }
+
+    /// The rays of a `width`×`height` image with the per-image constants
+    /// (the field of view's tangent, the scale) computed once: the same rays
+    /// as [`Camera::ray_at`], bit for bit, for callers that make many.
+    pub fn rays(&self, width: u32, height: u32) -> RayMaker {
         let s = 0.5 * width.min(height).max(1) as f64;
-        let u = (x - 0.5 * width as f64) / s;
-        let v = (0.5 * height as f64 - y) / s;
-        match self.projection {
+        let (k, footprint) = match self.projection {
             Projection::Perspective { fov_deg } => {
                 let k = (0.5 * fov_deg).to_radians().tan();
-                let d = add(
-                    self.forward,
-                    add(scale(self.right, u * k), scale(self.up, v * k)),
-                );
-                Ray {
-                    origin: self.eye,
-                    dir: normalize(d),
-                }
+                (k, k / s)
             }
-            Projection::Orthographic { half_extent } => Ray {
-                origin: add(
-                    self.eye,
-                    add(
-                        scale(self.right, u * half_extent),
-                        scale(self.up, v * half_extent),
-                    ),
-                ),
-                dir: self.forward,
-            },
+            Projection::Orthographic { half_extent } => (half_extent, half_extent / s),
+        };
+        RayMaker {
+            cam: *self,
+            hw: 0.5 * width as f64,
+            hh: 0.5 * height as f64,
+            s,
+            k,
+            footprint,
         }
     }
 
@@ -266,16 +263,7 @@ impl Camera {
         width: u32,
         height: u32,
     ) -> Frustum {
-        let (x0, y0, x1, y1) = (x0 as f64, y0 as f64, x1 as f64, y1 as f64);
-        Frustum {
-            corners: [
-                self.ray_at(x0, y0, width, height),
-                self.ray_at(x1, y0, width, height),
-                self.ray_at(x0, y1, width, height),
-                self.ray_at(x1, y1, width, height),
-            ],
-            forward: self.forward,
-        }
+        self.rays(width, height).frustum(x0, y0, x1, y1)
     }
 
     /// The world size of one pixel at distance `t` from the eye (for
@@ -286,6 +274,78 @@ impl Camera {
         match self.projection {
             Projection::Perspective { fov_deg } => t.abs() * (0.5 * fov_deg).to_radians().tan() / s,
             Projection::Orthographic { half_extent } => half_extent / s,
+        }
+    }
+}
+
+/// The rays of one image size of a [`Camera`] (see [`Camera::rays`]).
+#[derive(Clone, Copy, Debug)]
+pub struct RayMaker {
+    cam: Camera,
+    hw: f64,
+    hh: f64,
+    s: f64,
+    /// tan(fov/2) (perspective) or the half extent (orthographic).
+    k: f64,
+    /// The pixel footprint per unit distance (perspective) or the constant
+    /// footprint (orthographic).
+    footprint: f64,
+}
+
+impl RayMaker {
+    /// [`Camera::ray_at`].
+    #[inline]
+    pub fn ray_at(&self, x: f64, y: f64) -> Ray {
+        let c = &self.cam;
+        let u = (x - self.hw) / self.s;
+        let v = (self.hh - y) / self.s;
+        match c.projection {
+            Projection::Perspective { .. } => {
+                let d = add(
+                    c.forward,
+                    add(scale(c.right, u * self.k), scale(c.up, v * self.k)),
+                );
+                Ray {
+                    origin: c.eye,
+                    dir: normalize(d),
+                }
+            }
+            Projection::Orthographic { .. } => Ray {
+                origin: add(
+                    c.eye,
+                    add(scale(c.right, u * self.k), scale(c.up, v * self.k)),
+                ),
+                dir: c.forward,
+            },
+        }
+    }
+
+    /// [`Camera::ray`].
+    #[inline]
+    pub fn ray(&self, px: u32, py: u32) -> Ray {
+        self.ray_at(px as f64 + 0.5, py as f64 + 0.5)
+    }
+
+    /// [`Camera::pixel_footprint`].
+    #[inline]
+    pub fn pixel_footprint(&self, t: f64) -> f64 {
+        match self.cam.projection {
+            Projection::Perspective { .. } => t.abs() * self.footprint,
+            Projection::Orthographic { .. } => self.footprint,
+        }
+    }
+
+    /// [`Camera::tile_frustum`].
+    pub fn frustum(&self, x0: u32, y0: u32, x1: u32, y1: u32) -> Frustum {
+        let (x0, y0, x1, y1) = (x0 as f64, y0 as f64, x1 as f64, y1 as f64);
+        Frustum {
+            corners: [
+                self.ray_at(x0, y0),
+                self.ray_at(x1, y0),
+                self.ray_at(x0, y1),
+                self.ray_at(x1, y1),
+            ],
+            forward: self.cam.forward,
         }
     }
 }

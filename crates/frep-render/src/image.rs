@@ -267,6 +267,35 @@ fn to_byte(c: f32) -> u8 {
     (c.clamp(0.0, 1.0) * 255.0 + 0.5) as u8
 }
 
+/// `to_byte(linear_to_srgb(c))` without a `powf`: the byte is the number of
+/// thresholds at or below `c`, where threshold `b - 1` is the smallest `c`
+/// whose byte is at least `b` (found once by bisection over the `f32`s, so
+/// the result is the same byte, bit for bit, for every finite `c`).
+fn srgb_byte(c: f32) -> u8 {
+    static T: std::sync::OnceLock<[f32; 255]> = std::sync::OnceLock::new();
+    let t = T.get_or_init(|| {
+        let byte = |bits: u32| to_byte(linear_to_srgb(f32::from_bits(bits)));
+        std::array::from_fn(|i| {
+            let want = i as u8 + 1;
+            // Non-negative f32s are ordered like their bit patterns.
+            let (mut lo, mut hi) = (0u32, 1.0f32.to_bits());
+            while lo < hi {
+                let mid = lo + (hi - lo) / 2;
+                if byte(mid) >= want {
+                    hi = mid;
+                } else {
+                    lo = mid + 1;
+                }
+            }
+            f32::from_bits(lo)
+        })
+    });
+    if c.is_nan() {
+        return to_byte(linear_to_srgb(c));
+    }
+    t.partition_point(|&x| x <= c) as u8
+}
+
 /// Shades a hit buffer: key + fill + rim lights fixed to the camera,
 /// hemisphere ambient (sky above, ground below, world z up), an optional
 /// per-pixel ambient-occlusion factor, attribute colours where present (the
@@ -335,9 +364,9 @@ impl Shader {
         let h = self.height;
         let encode = |c: f32| {
             if lighting.srgb {
-                linear_to_srgb(c)
+                srgb_byte(c)
             } else {
-                c.clamp(0.0, 1.0)
+                to_byte(c.clamp(0.0, 1.0))
             }
         };
         let Some(hit) = hit else {
@@ -390,7 +419,7 @@ impl Shader {
                 + lighting.rim.color[k] * rd;
             let c = albedo[k] * (amb + diffuse * (0.35 + 0.65 * ao))
                 + spec * lighting.key.color[k] * ao;
-            to_byte(encode(c))
+            encode(c)
         })
     }
 }
@@ -403,6 +432,21 @@ mod tests {
 
     fn lum(p: [u8; 4]) -> u32 {
         p[0] as u32 + p[1] as u32 + p[2] as u32
+    }
+
+    #[test]
+    fn srgb_byte_table_matches_powf() {
+        for i in 0..=200_000u32 {
+            let c = i as f32 / 100_000.0 - 0.5;
+            assert_eq!(srgb_byte(c), to_byte(linear_to_srgb(c)), "{c}");
+        }
+        for bits in (0..0x3f80_0000u32).step_by(997) {
+            let c = f32::from_bits(bits);
+            assert_eq!(srgb_byte(c), to_byte(linear_to_srgb(c)), "{c}");
+        }
+        assert_eq!(srgb_byte(f32::NAN), to_byte(linear_to_srgb(f32::NAN)));
+        assert_eq!(srgb_byte(f32::INFINITY), 255);
+        assert_eq!(srgb_byte(f32::NEG_INFINITY), 0);
     }
 
     #[test]

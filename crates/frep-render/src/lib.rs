@@ -46,7 +46,7 @@ pub mod synthetic;
 pub mod tiles;
 pub mod viewset;
 
-pub use camera::{Aabb, Camera, Frustum, Projection, Ray};
+pub use camera::{Aabb, Camera, Frustum, Projection, Ray, RayMaker};
 pub use encode::{encode, EncodeError, ImageFormat};
 pub use golden::ascii_mask;
 pub use image::{shade, DepthImage, Hit, HitBuffer, Image, Light, Lighting, Shader};

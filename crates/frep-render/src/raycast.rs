@@ -33,18 +33,19 @@
 //! Evaluators are built per tile and per shortened tape, never per pixel;
 //! a tile holds its hits and a few batches of sample coordinates.
 
+use std::collections::HashMap;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 
 use frep_core::eval::batch::BatchEval;
 use frep_core::eval::grad::GradEval;
-use frep_core::eval::interval::{Interval, IntervalEval};
+use frep_core::eval::interval::{Choice, Interval, IntervalEval};
 use frep_core::eval::Inputs;
 use frep_core::simplify::{simplify_with_stats, SimplifyMode};
 use frep_core::{Model, Tape};
 use rayon::prelude::*;
 
-use crate::camera::{dot, Aabb, Camera};
+use crate::camera::{dot, Aabb, Camera, RayMaker};
 use crate::image::{Hit, HitBuffer, Image, Lighting, Shader};
 use crate::tiles::{cast_tiled, tiles, Tile, TileCaster};
 
@@ -98,6 +99,8 @@ pub struct ModelCaster {
     /// footprints deep (deeper ones are split by interval bisection first).
     pub leaf_depth_px: f64,
     stats: AtomicStats,
+    /// Per-thread evaluators and buffers, reused from tile to tile.
+    pool: Mutex<Vec<Scratch>>,
 }
 
 impl ModelCaster {
@@ -114,6 +117,7 @@ impl ModelCaster {
             fallback_depth: 3,
             leaf_depth_px: 16.0,
             stats: AtomicStats::default(),
+            pool: Mutex::new(Vec::new()),
         }
     }
 
@@ -129,6 +133,7 @@ impl ModelCaster {
             fallback_depth: 3,
             leaf_depth_px: 16.0,
             stats: AtomicStats::default(),
+            pool: Mutex::new(Vec::new()),
         }
     }
 
@@ -166,17 +171,22 @@ impl TileCaster for ModelCaster {
         if self.cancelled() {
             return;
         }
-        let mut ctx = TileCtx::new(self, camera, tile, out);
+        let scratch = self.pool.lock().ok().and_then(|mut p| p.pop());
+        let mut scratch = scratch.unwrap_or_else(|| Scratch::new(&self.tape));
+        scratch.trim();
+        let mut ctx = TileCtx::new(self, camera, tile, out, &mut scratch);
         ctx.run();
+        let stats = ctx.stats;
+        if let Ok(mut p) = self.pool.lock() {
+            p.push(scratch);
+        }
         let s = &self.stats;
         s.interval_evals
-            .fetch_add(ctx.stats.interval_evals, Ordering::Relaxed);
+            .fetch_add(stats.interval_evals, Ordering::Relaxed);
         s.point_evals
-            .fetch_add(ctx.stats.point_evals, Ordering::Relaxed);
-        s.grad_evals
-            .fetch_add(ctx.stats.grad_evals, Ordering::Relaxed);
-        s.simplified
-            .fetch_add(ctx.stats.simplified, Ordering::Relaxed);
+            .fetch_add(stats.point_evals, Ordering::Relaxed);
+        s.grad_evals.fetch_add(stats.grad_evals, Ordering::Relaxed);
+        s.simplified.fetch_add(stats.simplified, Ordering::Relaxed);
     }
 }
 
@@ -209,12 +219,113 @@ impl Evals {
     }
 }
 
+/// Above this many tape nodes held by one [`Scratch`], its evaluator cache
+/// is cleared (between tiles) to bound memory.
+const CACHE_NODES: usize = 1 << 17;
+
+/// (parent evaluator, interval choices, child evaluator).
+type ChildEntry = (u32, Box<[Choice]>, u32);
+
+/// Per-thread state of the caster, reused from tile to tile: the evaluators
+/// of the root tape and of every shortened tape met so far (keyed by the
+/// interval choices that produced them, so a tape is never simplified or
+/// compiled twice), and the buffers of a tile.
+struct Scratch {
+    /// `evals[0]` is the root tape's.
+    evals: Vec<Evals>,
+    /// Hash of (parent, choices) → (parent, choices, child): the child is
+    /// the parent itself where simplifying does not shorten the tape.
+    children: HashMap<u64, Vec<ChildEntry>>,
+    nodes: usize,
+    attr: Option<BatchEval>,
+    rays: Vec<RayInfo>,
+    tails: Vec<Tail>,
+    xs: Vec<f64>,
+    ys: Vec<f64>,
+    zs: Vec<f64>,
+    vals: Vec<f64>,
+    /// Per ray of the current leaf: (tile ray index, lo depth, hi depth).
+    leaf_rays: Vec<(usize, f64, f64)>,
+    brackets: Vec<Bracket>,
+    direct: Vec<(usize, f64, bool)>,
+    /// Thin-feature searches: (ray, lo depth, hi depth, f at lo).
+    searches: Vec<(usize, f64, f64, f64)>,
+    hit_rays: Vec<usize>,
+    fracs: Vec<f64>,
+}
+
+impl Scratch {
+    fn new(tape: &Tape) -> Scratch {
+        Scratch {
+            evals: vec![Evals::new(tape.clone())],
+            children: HashMap::new(),
+            nodes: tape.len(),
+            attr: None,
+            rays: Vec::new(),
+            tails: Vec::new(),
+            xs: Vec::new(),
+            ys: Vec::new(),
+            zs: Vec::new(),
+            vals: Vec::new(),
+            leaf_rays: Vec::new(),
+            brackets: Vec::new(),
+            direct: Vec::new(),
+            searches: Vec::new(),
+            hit_rays: Vec::new(),
+            fracs: Vec::new(),
+        }
+    }
+
+    /// Drops the shortened tapes' evaluators when they hold too much.
+    fn trim(&mut self) {
+        if self.nodes > CACHE_NODES {
+            self.evals.truncate(1);
+            self.children.clear();
+            self.nodes = self.evals[0].tape.len();
+        }
+    }
+
+    /// Evaluates output 0 of evaluator `e` at the buffered points into
+    /// `vals`.
+    fn eval_points(&mut self, e: usize, inputs: &Inputs) {
+        self.vals.clear();
+        self.vals.resize(self.xs.len(), 0.0);
+        self.evals[e]
+            .batch()
+            .eval(&self.xs, &self.ys, &self.zs, inputs, &mut self.vals);
+    }
+
+    fn clear_points(&mut self) {
+        self.xs.clear();
+        self.ys.clear();
+        self.zs.clear();
+    }
+
+    fn push_point(&mut self, p: [f64; 3]) {
+        self.xs.push(p[0]);
+        self.ys.push(p[1]);
+        self.zs.push(p[2]);
+    }
+}
+
+fn choices_hash(parent: usize, choices: &[Choice]) -> u64 {
+    let mut h = 0xcbf2_9ce4_8422_2325u64 ^ parent as u64;
+    for c in choices {
+        let v = c.exact as u64 | (c.sign as u64) << 8 | (c.decided as u64) << 16;
+        h = (h ^ v).wrapping_mul(0x0100_0000_01b3);
+        h ^= h >> 29;
+    }
+    h
+}
+
 /// One pixel's ray, with its depth range inside the model box (depth = the
 /// distance along the camera's viewing direction, `z = t · c`).
 #[derive(Clone, Copy)]
 struct RayInfo {
     origin: [f64; 3],
     dir: [f64; 3],
+    /// `dir / c`: the point at depth `z` is `origin + dz · z`.
+    dz: [f64; 3],
     /// `dir · forward`.
     c: f64,
     z0: f64,
@@ -223,14 +334,29 @@ struct RayInfo {
 }
 
 impl RayInfo {
+    #[inline]
     fn at_depth(&self, z: f64) -> [f64; 3] {
-        let t = z / self.c;
         [
-            self.origin[0] + self.dir[0] * t,
-            self.origin[1] + self.dir[1] * t,
-            self.origin[2] + self.dir[2] * t,
+            self.origin[0] + self.dz[0] * z,
+            self.origin[1] + self.dz[1] * z,
+            self.origin[2] + self.dz[2] * z,
         ]
     }
+}
+
+/// The last two samples of a ray's latest sampled slab without a crossing.
+/// `pending`: the last sample is a local maximum so far (the field rises
+/// towards the slab's end), so a feature thinner than a step may hide just
+/// before it; the next contiguous slab tells whether the rise goes on, and
+/// otherwise the segment is searched (before anything behind it is used).
+#[derive(Clone, Copy, Default)]
+struct Tail {
+    valid: bool,
+    pending: bool,
+    ev: u32,
+    z_prev: f64,
+    f_prev: f64,
+    z_last: f64,
 }
 
 /// A pixel rectangle `[x0, x1) × [y0, y1)` in tile-local pixels.
@@ -264,6 +390,7 @@ impl Rect {
 }
 
 /// A bracketed crossing: `f(lo) < 0` (or NaN), `f(hi) >= 0`.
+#[derive(Clone, Copy)]
 struct Bracket {
     ray: usize,
     lo: f64,
@@ -272,22 +399,31 @@ struct Bracket {
     f_hi: f64,
 }
 
+/// NaN (outside) as −∞, for comparing samples.
+#[inline]
+fn ord(v: f64) -> f64 {
+    if v.is_nan() {
+        f64::NEG_INFINITY
+    } else {
+        v
+    }
+}
+
+/// Whether `c` is a local maximum between `left` and `right` (all through
+/// [`ord`]), not −∞.
+#[inline]
+fn local_max(left: f64, c: f64, right: f64) -> bool {
+    c > f64::NEG_INFINITY && c >= left && c >= right && (c > left || c > right)
+}
+
 struct TileCtx<'a> {
     caster: &'a ModelCaster,
-    cam: &'a Camera,
+    rm: RayMaker,
     tile: &'a Tile,
     out: &'a mut [Option<Hit>],
-    rays: Vec<RayInfo>,
+    sc: &'a mut Scratch,
     tw: u32,
     stats: CastStats,
-    xs: Vec<f64>,
-    ys: Vec<f64>,
-    zs: Vec<f64>,
-    vals: Vec<f64>,
-    /// Per ray of the current leaf: (tile ray index, lo depth, hi depth).
-    leaf_rays: Vec<(usize, f64, f64)>,
-    brackets: Vec<Bracket>,
-    attr: Option<BatchEval>,
 }
 
 fn clip_box(b: &Aabb, bounds: &Aabb) -> Option<Aabb> {
@@ -313,19 +449,22 @@ impl<'a> TileCtx<'a> {
         cam: &'a Camera,
         tile: &'a Tile,
         out: &'a mut [Option<Hit>],
+        sc: &'a mut Scratch,
     ) -> TileCtx<'a> {
-        let mut rays = Vec::with_capacity((tile.w() * tile.h()) as usize);
+        let rm = cam.rays(tile.width, tile.height);
+        sc.rays.clear();
         for py in tile.y0..tile.y1 {
             for px in tile.x0..tile.x1 {
-                let r = cam.ray(px, py, tile.width, tile.height);
+                let r = rm.ray(px, py);
                 let c = dot(r.dir, cam.forward).max(1e-12);
                 let (z0, z1, live) = match r.clip(&caster.bounds) {
                     Some((t0, t1)) => (t0 * c, t1 * c, true),
                     None => (0.0, 0.0, false),
                 };
-                rays.push(RayInfo {
+                sc.rays.push(RayInfo {
                     origin: r.origin,
                     dir: r.dir,
+                    dz: [r.dir[0] / c, r.dir[1] / c, r.dir[2] / c],
                     c,
                     z0,
                     z1,
@@ -333,32 +472,26 @@ impl<'a> TileCtx<'a> {
                 });
             }
         }
+        sc.tails.clear();
+        sc.tails.resize(sc.rays.len(), Tail::default());
         TileCtx {
             caster,
-            cam,
+            rm,
             tile,
             out,
-            rays,
+            sc,
             tw: tile.w(),
             stats: CastStats::default(),
-            xs: Vec::new(),
-            ys: Vec::new(),
-            zs: Vec::new(),
-            vals: Vec::new(),
-            leaf_rays: Vec::new(),
-            brackets: Vec::new(),
-            attr: None,
         }
     }
 
     fn footprint(&self, z: f64) -> f64 {
-        self.cam
-            .pixel_footprint(z, self.tile.width, self.tile.height)
+        self.rm.pixel_footprint(z)
     }
 
     fn run(&mut self) {
         let (mut zmin, mut zmax) = (f64::INFINITY, f64::NEG_INFINITY);
-        for r in self.rays.iter().filter(|r| r.live) {
+        for r in self.sc.rays.iter().filter(|r| r.live) {
             zmin = zmin.min(r.z0);
             zmax = zmax.max(r.z1);
         }
@@ -371,8 +504,13 @@ impl<'a> TileCtx<'a> {
             x1: self.tile.w(),
             y1: self.tile.h(),
         };
-        let mut root = Evals::new(self.caster.tape.clone());
-        self.node(&mut root, rect, zmin, zmax);
+        self.node(0, rect, zmin, zmax);
+        // Rays whose last samples rose to the end of their last slab.
+        for i in 0..self.sc.rays.len() {
+            if self.out[i].is_none() && self.sc.tails[i].pending {
+                self.resolve_tail(i);
+            }
+        }
     }
 
     /// The depth range of the unresolved live rays of `rect` within
@@ -380,9 +518,9 @@ impl<'a> TileCtx<'a> {
     fn active_range(&self, rect: Rect, za: f64, zb: f64) -> Option<(f64, f64)> {
         let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
         for y in rect.y0..rect.y1 {
-            for x in rect.x0..rect.x1 {
-                let i = (y * self.tw + x) as usize;
-                let r = &self.rays[i];
+            let row = (y * self.tw) as usize;
+            for i in row + rect.x0 as usize..row + rect.x1 as usize {
+                let r = &self.sc.rays[i];
                 if !r.live || self.out[i].is_some() || r.z1 < za || r.z0 > zb {
                     continue;
                 }
@@ -393,26 +531,58 @@ impl<'a> TileCtx<'a> {
         (lo <= hi).then_some((lo, hi))
     }
 
-    fn node(&mut self, ev: &mut Evals, rect: Rect, za: f64, zb: f64) {
+    /// The evaluator of the tape `e` shortened for the box it was last
+    /// evaluated over (`e` itself when that does not shorten it).
+    fn shorten(&mut self, e: usize) -> usize {
+        let sc = &mut *self.sc;
+        let ev = &sc.evals[e];
+        if ev.tape.len() <= 4 {
+            return e;
+        }
+        let choices = ev.interval.choices();
+        let h = choices_hash(e, choices);
+        if let Some(bucket) = sc.children.get(&h) {
+            for (p, key, child) in bucket {
+                if *p as usize == e && key[..] == choices[..] {
+                    return *child as usize;
+                }
+            }
+        }
+        let (t, st) = simplify_with_stats(&ev.tape, choices, SimplifyMode::Sign);
+        let key: Box<[Choice]> = choices.into();
+        let child = if st.after < st.before {
+            self.stats.simplified += 1;
+            sc.nodes += t.len();
+            sc.evals.push(Evals::new(t));
+            sc.evals.len() - 1
+        } else {
+            e
+        };
+        sc.children
+            .entry(h)
+            .or_default()
+            .push((e as u32, key, child as u32));
+        child
+    }
+
+    fn node(&mut self, e: usize, rect: Rect, za: f64, zb: f64) {
         if self.caster.cancelled() {
             return;
         }
         let Some((za, zb)) = self.active_range(rect, za, zb) else {
             return;
         };
-        let fr = self.cam.tile_frustum(
+        let fr = self.rm.frustum(
             self.tile.x0 + rect.x0,
             self.tile.y0 + rect.y0,
             self.tile.x0 + rect.x1,
             self.tile.y0 + rect.y1,
-            self.tile.width,
-            self.tile.height,
         );
         let Some(b) = clip_box(&fr.aabb_between_depths(za, zb), &self.caster.bounds) else {
             return;
         };
         self.stats.interval_evals += 1;
-        let v = ev.interval.eval(
+        let v = self.sc.evals[e].interval.eval(
             iv(b.min[0], b.max[0]),
             iv(b.min[1], b.max[1]),
             iv(b.min[2], b.max[2]),
@@ -422,65 +592,57 @@ impl<'a> TileCtx<'a> {
             return;
         }
         if v.is_positive() {
-            self.fill(ev, rect, za, zb);
+            self.fill(e, rect, za, zb);
             return;
         }
         // Shorten the tape for this box when that helps.
-        let mut child = None;
-        if ev.tape.len() > 4 {
-            let (t, st) = simplify_with_stats(&ev.tape, ev.interval.choices(), SimplifyMode::Sign);
-            if st.after < st.before {
-                self.stats.simplified += 1;
-                child = Some(Evals::new(t));
-            }
-        }
-        let ev: &mut Evals = match &mut child {
-            Some(c) => c,
-            None => ev,
-        };
+        let e = self.shorten(e);
         let s = rect.size();
         let cell = s as f64 * self.footprint(za).max(1e-300);
         if zb - za > 2.0 * cell {
             // Interval bisection along the frustum.
             let zm = 0.5 * (za + zb);
-            self.node(ev, rect, za, zm);
-            self.node(ev, rect, zm, zb);
+            self.node(e, rect, za, zm);
+            self.node(e, rect, zm, zb);
         } else if s > LEAF {
             let zm = 0.5 * (za + zb);
             for q in rect.quadrants() {
-                self.node(ev, q, za, zm);
-                self.node(ev, q, zm, zb);
+                self.node(e, q, za, zm);
+                self.node(e, q, zm, zb);
             }
         } else if zb - za > self.caster.leaf_depth_px * self.footprint(za) {
             // Thin the leaf's slab further: interval evaluations on short
             // tapes are cheaper than sampling every ray of the leaf.
             let zm = 0.5 * (za + zb);
-            self.node(ev, rect, za, zm);
-            self.node(ev, rect, zm, zb);
+            self.node(e, rect, za, zm);
+            self.node(e, rect, zm, zb);
         } else {
-            self.leaf(ev, rect, za, zb);
+            self.leaf(e, rect, za, zb);
         }
     }
 
     /// The box inside the solid throughout: rays still searching hit it
-    /// where they enter it.
-    fn fill(&mut self, ev: &mut Evals, rect: Rect, za: f64, zb: f64) {
+    /// where they enter it (after any feature pending in front of it).
+    fn fill(&mut self, e: usize, rect: Rect, za: f64, zb: f64) {
         for y in rect.y0..rect.y1 {
             for x in rect.x0..rect.x1 {
                 let i = (y * self.tw + x) as usize;
-                let r = self.rays[i];
+                let r = self.sc.rays[i];
                 if !r.live || self.out[i].is_some() || r.z1 < za || r.z0 > zb {
                     continue;
                 }
+                if self.sc.tails[i].pending && self.resolve_tail(i) {
+                    continue;
+                }
                 let z = za.max(r.z0);
-                let hit = self.make_hit(ev, i, z, z <= r.z0);
+                let hit = self.make_hit(e, i, z, z <= r.z0);
                 self.out[i] = Some(hit);
             }
         }
     }
 
-    fn make_hit(&mut self, ev: &mut Evals, i: usize, z: f64, at_entry: bool) -> Hit {
-        let r = self.rays[i];
+    fn make_hit(&mut self, e: usize, i: usize, z: f64, at_entry: bool) -> Hit {
+        let r = self.sc.rays[i];
         let p = r.at_depth(z);
         let face = if at_entry && z > 0.0 {
             self.entry_face(&p)
@@ -489,7 +651,7 @@ impl<'a> TileCtx<'a> {
         };
         let normal = match face {
             Some(n) => n,
-            None => self.normal(ev, &r, p, z),
+            None => self.normal(e, &r, p, z),
         };
         Hit {
             t: z / r.c,
@@ -518,9 +680,11 @@ impl<'a> TileCtx<'a> {
         (best.0 < 1e-6).then_some(best.1)
     }
 
-    fn normal(&mut self, ev: &mut Evals, r: &RayInfo, p: [f64; 3], z: f64) -> [f64; 3] {
+    fn normal(&mut self, e: usize, r: &RayInfo, p: [f64; 3], z: f64) -> [f64; 3] {
         self.stats.grad_evals += 1;
-        let g = ev.grad().eval(p[0], p[1], p[2], &self.caster.inputs);
+        let g = self.sc.evals[e]
+            .grad()
+            .eval(p[0], p[1], p[2], &self.caster.inputs);
         let n = [-g.dx, -g.dy, -g.dz];
         if let Some(n) = unit(n) {
             return n;
@@ -529,29 +693,17 @@ impl<'a> TileCtx<'a> {
         let h = self.footprint(z).max(1e-9 * (1.0 + z.abs()));
         for scale in [0.5, 2.0, 8.0] {
             let d = h * scale;
-            self.xs.clear();
-            self.ys.clear();
-            self.zs.clear();
+            self.sc.clear_points();
             for k in 0..3 {
                 for s in [d, -d] {
                     let mut q = p;
                     q[k] += s;
-                    self.xs.push(q[0]);
-                    self.ys.push(q[1]);
-                    self.zs.push(q[2]);
+                    self.sc.push_point(q);
                 }
             }
-            self.vals.clear();
-            self.vals.resize(6, 0.0);
             self.stats.point_evals += 6;
-            ev.batch().eval(
-                &self.xs,
-                &self.ys,
-                &self.zs,
-                &self.caster.inputs,
-                &mut self.vals,
-            );
-            let v = &self.vals;
+            self.sc.eval_points(e, &self.caster.inputs);
+            let v = &self.sc.vals;
             let n = [-(v[0] - v[1]), -(v[2] - v[3]), -(v[4] - v[5])];
             if let Some(n) = unit(n) {
                 return n;
@@ -560,57 +712,189 @@ impl<'a> TileCtx<'a> {
         [-r.dir[0], -r.dir[1], -r.dir[2]]
     }
 
-    fn leaf(&mut self, ev: &mut Evals, rect: Rect, za: f64, zb: f64) {
+    /// The finest depth resolution of thin-feature searches, for sampling
+    /// steps of `step`.
+    fn min_len(&self, step: f64) -> f64 {
+        step / (1u64 << self.caster.fallback_depth.min(20)) as f64
+    }
+
+    /// Searches the buffered `searches` (all with evaluator `e`) for a
+    /// feature thinner than a step: each segment is sampled at the midpoints
+    /// of its cells no longer than `min_len` (the cells an interval
+    /// bisection down to `min_len` would test), all in one batch; the first
+    /// inside midpoint gives a bracket.
+    fn run_searches(&mut self, e: usize, min_len: f64) {
+        let sc = &mut *self.sc;
+        if sc.searches.is_empty() {
+            return;
+        }
+        sc.clear_points();
+        for &(i, a, b, _) in &sc.searches {
+            let m = cells(b - a, min_len);
+            let r = sc.rays[i];
+            let w = (b - a) / m as f64;
+            for j in 0..m {
+                let p = r.at_depth(a + w * (j as f64 + 0.5));
+                sc.xs.push(p[0]);
+                sc.ys.push(p[1]);
+                sc.zs.push(p[2]);
+            }
+        }
+        self.stats.point_evals += sc.xs.len() as u64;
+        sc.eval_points(e, &self.caster.inputs);
+        let mut off = 0;
+        for &(i, a, b, fa) in &sc.searches {
+            let m = cells(b - a, min_len);
+            let w = (b - a) / m as f64;
+            let v = &sc.vals[off..off + m];
+            off += m;
+            let (mut lo, mut f_lo) = (a, fa);
+            for (j, &f) in v.iter().enumerate() {
+                let z = a + w * (j as f64 + 0.5);
+                if f >= 0.0 {
+                    sc.brackets.push(Bracket {
+                        ray: i,
+                        lo,
+                        hi: z,
+                        f_lo,
+                        f_hi: f,
+                    });
+                    break;
+                }
+                (lo, f_lo) = (z, f);
+            }
+        }
+        sc.searches.clear();
+    }
+
+    /// Searches ray `i`'s pending segment (see [`Tail`]), if any, and
+    /// clears it. Returns whether it hit.
+    fn resolve_tail(&mut self, i: usize) -> bool {
+        let t = self.sc.tails[i];
+        self.sc.tails[i].pending = false;
+        t.pending && self.search_tail(i, t)
+    }
+
+    /// Searches the segment of tail `t` of ray `i` with the evaluator it was
+    /// sampled with; on a hit, records it. Returns whether it hit.
+    fn search_tail(&mut self, i: usize, t: Tail) -> bool {
+        let e = t.ev as usize;
+        let step = t.z_last - t.z_prev;
+        let brackets = std::mem::take(&mut self.sc.brackets);
+        let direct = std::mem::take(&mut self.sc.direct);
+        let searches = std::mem::take(&mut self.sc.searches);
+        self.sc.searches.push((i, t.z_prev, t.z_last, t.f_prev));
+        self.run_searches(e, self.min_len(step));
+        let hit = !self.sc.brackets.is_empty();
+        self.finish(e);
+        self.sc.brackets = brackets;
+        self.sc.direct = direct;
+        self.sc.searches = searches;
+        hit
+    }
+
+    /// Refines the buffered brackets (evaluator `e`), records their hits and
+    /// the buffered direct hits, and their colours.
+    fn finish(&mut self, e: usize) {
+        self.refine(e);
+        let brackets = std::mem::take(&mut self.sc.brackets);
+        let direct = std::mem::take(&mut self.sc.direct);
+        let mut hit_rays = std::mem::take(&mut self.sc.hit_rays);
+        hit_rays.clear();
+        for b in &brackets {
+            let z = if b.f_lo.is_finite() && b.f_hi.is_finite() && b.f_lo < 0.0 && b.f_hi > b.f_lo {
+                b.lo + (b.hi - b.lo) * (-b.f_lo / (b.f_hi - b.f_lo))
+            } else {
+                b.hi
+            };
+            let h = self.make_hit(e, b.ray, z.clamp(b.lo, b.hi), false);
+            self.out[b.ray] = Some(h);
+            hit_rays.push(b.ray);
+        }
+        for &(i, z, at_entry) in &direct {
+            let h = self.make_hit(e, i, z, at_entry);
+            self.out[i] = Some(h);
+            hit_rays.push(i);
+        }
+        self.colors(&hit_rays);
+        self.sc.brackets = brackets;
+        self.sc.brackets.clear();
+        self.sc.direct = direct;
+        self.sc.direct.clear();
+        self.sc.hit_rays = hit_rays;
+    }
+
+    fn leaf(&mut self, e: usize, rect: Rect, za: f64, zb: f64) {
         let step = self.caster.step_px.max(1e-3) * self.footprint(za).max(1e-300);
         let n = (((zb - za) / step).ceil() as usize).clamp(1, 4096);
-        self.leaf_rays.clear();
+        let mut leaf_rays = std::mem::take(&mut self.sc.leaf_rays);
+        leaf_rays.clear();
         for y in rect.y0..rect.y1 {
             for x in rect.x0..rect.x1 {
                 let i = (y * self.tw + x) as usize;
-                let r = &self.rays[i];
+                let r = &self.sc.rays[i];
                 if !r.live || self.out[i].is_some() || r.z1 < za || r.z0 > zb {
                     continue;
                 }
-                self.leaf_rays.push((i, za.max(r.z0), zb.min(r.z1)));
+                let lo = za.max(r.z0);
+                let hi = zb.min(r.z1);
+                let t = &self.sc.tails[i];
+                // A pending segment not followed by this slab: search it
+                // first (it is in front).
+                if t.pending && t.z_last != lo && self.resolve_tail(i) {
+                    continue;
+                }
+                leaf_rays.push((i, lo, hi));
             }
         }
-        if self.leaf_rays.is_empty() {
+        if leaf_rays.is_empty() {
+            self.sc.leaf_rays = leaf_rays;
             return;
         }
         // Sample every ray at n + 1 depths, all rays in one batch.
-        self.xs.clear();
-        self.ys.clear();
-        self.zs.clear();
-        for &(i, lo, hi) in &self.leaf_rays {
-            let r = &self.rays[i];
-            for k in 0..=n {
-                let z = lo + (hi - lo) * (k as f64 / n as f64);
-                let p = r.at_depth(z);
-                self.xs.push(p[0]);
-                self.ys.push(p[1]);
-                self.zs.push(p[2]);
+        let sc = &mut *self.sc;
+        sc.fracs.clear();
+        sc.fracs.extend((0..=n).map(|k| k as f64 / n as f64));
+        sc.clear_points();
+        let total = leaf_rays.len() * (n + 1);
+        sc.xs.reserve(total);
+        sc.ys.reserve(total);
+        sc.zs.reserve(total);
+        for &(i, lo, hi) in &leaf_rays {
+            let r = &sc.rays[i];
+            let d = hi - lo;
+            for &f in &sc.fracs {
+                let z = lo + d * f;
+                sc.xs.push(r.origin[0] + r.dz[0] * z);
+                sc.ys.push(r.origin[1] + r.dz[1] * z);
+                sc.zs.push(r.origin[2] + r.dz[2] * z);
             }
         }
-        self.vals.clear();
-        self.vals.resize(self.xs.len(), 0.0);
-        self.stats.point_evals += self.xs.len() as u64;
-        ev.batch().eval(
-            &self.xs,
-            &self.ys,
-            &self.zs,
-            &self.caster.inputs,
-            &mut self.vals,
-        );
-        self.brackets.clear();
-        let leaf_rays = std::mem::take(&mut self.leaf_rays);
-        let mut direct: Vec<(usize, f64, bool)> = Vec::new();
-        let mut missed: Vec<(usize, f64, f64)> = Vec::new();
+        self.stats.point_evals += total as u64;
+        sc.eval_points(e, &self.caster.inputs);
+        let vals = std::mem::take(&mut sc.vals);
+        let mut resolve_first: Vec<(usize, Tail)> = Vec::new();
         for (j, &(i, lo, hi)) in leaf_rays.iter().enumerate() {
-            let v = &self.vals[j * (n + 1)..(j + 1) * (n + 1)];
-            let z = |k: usize| lo + (hi - lo) * (k as f64 / n as f64);
+            let v = &vals[j * (n + 1)..(j + 1) * (n + 1)];
+            let sc = &mut *self.sc;
+            let fr = &sc.fracs;
+            let z = |k: usize| lo + (hi - lo) * fr[k];
+            let t = sc.tails[i];
+            let contiguous = t.valid && t.z_last == lo;
+            // A rise pending at the end of the previous slab: it goes on
+            // (no thin feature can hide at that maximum) or it is searched.
+            if t.pending {
+                if contiguous && n >= 1 && ord(v[1]) > ord(v[0]) && v[0] < 0.0 {
+                    sc.tails[i].pending = false;
+                } else {
+                    // Searched below, before this slab's result is used.
+                    resolve_first.push((i, t));
+                    sc.tails[i].pending = false;
+                }
+            }
             match v.iter().position(|&f| f >= 0.0) {
-                Some(0) => direct.push((i, lo, lo <= self.rays[i].z0)),
-                Some(k) => self.brackets.push(Bracket {
+                Some(0) => sc.direct.push((i, lo, lo <= sc.rays[i].z0)),
+                Some(k) => sc.brackets.push(Bracket {
                     ray: i,
                     lo: z(k - 1),
                     hi: z(k),
@@ -619,147 +903,87 @@ impl<'a> TileCtx<'a> {
                 }),
                 None => {
                     // No sample inside: a feature thinner than a step can
-                    // only hide around a local maximum of the samples
-                    // (NaN counting as -inf); search there.
-                    let g = |k: usize| {
-                        if v[k].is_nan() {
-                            f64::NEG_INFINITY
-                        } else {
-                            v[k]
-                        }
+                    // only hide around a local maximum of the samples (NaN
+                    // counting as −∞); search there. The left neighbour of
+                    // the first sample is the previous slab's, when it
+                    // joins on; a rise to the last sample is left pending.
+                    let left0 = if contiguous {
+                        ord(t.f_prev)
+                    } else {
+                        f64::NEG_INFINITY
                     };
+                    let mut pending = false;
                     for k in 0..=n {
-                        let left = if k > 0 { g(k - 1) } else { f64::NEG_INFINITY };
-                        let right = if k < n { g(k + 1) } else { f64::NEG_INFINITY };
-                        let c = g(k);
-                        if c > f64::NEG_INFINITY
-                            && c >= left
-                            && c >= right
-                            && (c > left || c > right)
-                        {
-                            missed.push((i, z(k.saturating_sub(1)), z((k + 1).min(n))));
+                        let left = if k > 0 { ord(v[k - 1]) } else { left0 };
+                        let right = if k < n {
+                            ord(v[k + 1])
+                        } else {
+                            f64::NEG_INFINITY
+                        };
+                        if local_max(left, ord(v[k]), right) {
+                            if k == n && n > 0 && hi < sc.rays[i].z1 {
+                                pending = true;
+                            } else {
+                                let a = k.saturating_sub(1);
+                                sc.searches.push((i, z(a), z((k + 1).min(n)), v[a]));
+                            }
                             break;
                         }
+                    }
+                    sc.tails[i] = Tail {
+                        valid: true,
+                        pending: false,
+                        ev: e as u32,
+                        z_prev: z(n.saturating_sub(1)),
+                        f_prev: v[n.saturating_sub(1)],
+                        z_last: hi,
+                    };
+                    // Set after any search of the previous tail below.
+                    if pending {
+                        sc.tails[i].pending = true;
                     }
                 }
             }
         }
-        // Rays whose samples saw no crossing: interval bisection along the
-        // ray, down to a fraction of a step.
-        let min_len = step / (1u64 << self.caster.fallback_depth.min(20)) as f64;
-        for &(i, lo, hi) in &missed {
-            if let Some((a, b)) = self.ray_search(ev, i, lo, hi, min_len) {
-                let r = self.rays[i];
-                let pa = r.at_depth(a);
-                let pb = r.at_depth(b);
-                let fa = self.point(ev, pa);
-                let fb = self.point(ev, pb);
-                if fa >= 0.0 {
-                    direct.push((i, a, a <= r.z0));
-                } else {
-                    self.brackets.push(Bracket {
-                        ray: i,
-                        lo: a,
-                        hi: b,
-                        f_lo: fa,
-                        f_hi: fb.max(0.0),
-                    });
+        self.sc.vals = vals;
+        // Pending segments of the previous slabs come first: a hit there
+        // replaces anything this slab found behind it.
+        if !resolve_first.is_empty() {
+            let mut hit = Vec::new();
+            for &(i, t) in &resolve_first {
+                if self.search_tail(i, t) {
+                    hit.push(i);
                 }
             }
+            let keep = |r: usize| !hit.contains(&r);
+            let sc = &mut *self.sc;
+            sc.brackets.retain(|b| keep(b.ray));
+            sc.direct.retain(|d| keep(d.0));
+            sc.searches.retain(|s| keep(s.0));
         }
-        self.refine(ev);
-        let brackets = std::mem::take(&mut self.brackets);
-        let mut hit_rays = Vec::with_capacity(brackets.len() + direct.len());
-        for b in &brackets {
-            let z = if b.f_lo.is_finite() && b.f_hi.is_finite() && b.f_lo < 0.0 && b.f_hi > b.f_lo {
-                b.lo + (b.hi - b.lo) * (-b.f_lo / (b.f_hi - b.f_lo))
-            } else {
-                b.hi
-            };
-            let h = self.make_hit(ev, b.ray, z.clamp(b.lo, b.hi), false);
-            self.out[b.ray] = Some(h);
-            hit_rays.push(b.ray);
-        }
-        for &(i, z, at_entry) in &direct {
-            let h = self.make_hit(ev, i, z, at_entry);
-            self.out[i] = Some(h);
-            hit_rays.push(i);
-        }
-        self.brackets = brackets;
-        self.leaf_rays = leaf_rays;
-        self.colors(&hit_rays);
+        let min_len = self.min_len(step);
+        self.run_searches(e, min_len);
+        self.finish(e);
+        self.sc.leaf_rays = leaf_rays;
     }
 
-    fn point(&mut self, ev: &mut Evals, p: [f64; 3]) -> f64 {
-        let mut out = [0.0];
-        self.stats.point_evals += 1;
-        ev.batch()
-            .eval(&[p[0]], &[p[1]], &[p[2]], &self.caster.inputs, &mut out);
-        out[0]
-    }
-
-    /// Interval bisection along ray `i` over depths `[a, b]`, front to back:
-    /// the first sub-segment no longer than `min_len` that may hold the
-    /// surface and whose midpoint (or end) is inside.
-    fn ray_search(
-        &mut self,
-        ev: &mut Evals,
-        i: usize,
-        a: f64,
-        b: f64,
-        min_len: f64,
-    ) -> Option<(f64, f64)> {
-        let r = self.rays[i];
-        let pa = r.at_depth(a);
-        let pb = r.at_depth(b);
-        self.stats.interval_evals += 1;
-        let v = ev.interval.eval(
-            iv(pa[0].min(pb[0]), pa[0].max(pb[0])),
-            iv(pa[1].min(pb[1]), pa[1].max(pb[1])),
-            iv(pa[2].min(pb[2]), pa[2].max(pb[2])),
-            &self.caster.inputs,
-        );
-        if v.is_outside() {
-            return None;
-        }
-        if v.is_positive() {
-            return Some((a, a));
-        }
-        let m = 0.5 * (a + b);
-        if b - a <= min_len {
-            let fm = self.point(ev, r.at_depth(m));
-            return (fm >= 0.0).then_some((a, m));
-        }
-        self.ray_search(ev, i, a, m, min_len)
-            .or_else(|| self.ray_search(ev, i, m, b, min_len))
-    }
-
-    /// Bisection of every bracket at once (one batch per step).
-    fn refine(&mut self, ev: &mut Evals) {
-        if self.brackets.is_empty() {
+    /// Bisection of every buffered bracket at once (one batch per step).
+    fn refine(&mut self, e: usize) {
+        let sc = &mut *self.sc;
+        if sc.brackets.is_empty() {
             return;
         }
         for _ in 0..REFINE {
-            self.xs.clear();
-            self.ys.clear();
-            self.zs.clear();
-            for b in &self.brackets {
-                let p = self.rays[b.ray].at_depth(0.5 * (b.lo + b.hi));
-                self.xs.push(p[0]);
-                self.ys.push(p[1]);
-                self.zs.push(p[2]);
+            sc.clear_points();
+            for b in &sc.brackets {
+                let p = sc.rays[b.ray].at_depth(0.5 * (b.lo + b.hi));
+                sc.xs.push(p[0]);
+                sc.ys.push(p[1]);
+                sc.zs.push(p[2]);
             }
-            self.vals.clear();
-            self.vals.resize(self.xs.len(), 0.0);
-            self.stats.point_evals += self.xs.len() as u64;
-            ev.batch().eval(
-                &self.xs,
-                &self.ys,
-                &self.zs,
-                &self.caster.inputs,
-                &mut self.vals,
-            );
-            for (b, &f) in self.brackets.iter_mut().zip(&self.vals) {
+            self.stats.point_evals += sc.xs.len() as u64;
+            sc.eval_points(e, &self.caster.inputs);
+            for (b, &f) in sc.brackets.iter_mut().zip(&sc.vals) {
                 let m = 0.5 * (b.lo + b.hi);
                 if f >= 0.0 {
                     b.hi = m;
@@ -780,19 +1004,20 @@ impl<'a> TileCtx<'a> {
         if hit_rays.is_empty() {
             return;
         }
-        let eval = self.attr.get_or_insert_with(|| BatchEval::new(attr_tape));
-        self.xs.clear();
-        self.ys.clear();
-        self.zs.clear();
+        let sc = &mut *self.sc;
+        let eval = sc.attr.get_or_insert_with(|| BatchEval::new(attr_tape));
+        sc.xs.clear();
+        sc.ys.clear();
+        sc.zs.clear();
         for &i in hit_rays {
             let p = self.out[i].as_ref().map_or([0.0; 3], |h| h.position);
-            self.xs.push(p[0]);
-            self.ys.push(p[1]);
-            self.zs.push(p[2]);
+            sc.xs.push(p[0]);
+            sc.ys.push(p[1]);
+            sc.zs.push(p[2]);
         }
         let mut outs = vec![Vec::new(); attr_tape.outputs.len()];
         self.stats.point_evals += hit_rays.len() as u64;
-        eval.eval_outputs(&self.xs, &self.ys, &self.zs, &self.caster.inputs, &mut outs);
+        eval.eval_outputs(&sc.xs, &sc.ys, &sc.zs, &self.caster.inputs, &mut outs);
         if outs.len() < 4 {
             return;
         }
@@ -805,6 +1030,18 @@ impl<'a> TileCtx<'a> {
             }
         }
     }
+}
+
+/// The number of cells (a power of two) an interval bisection of a segment
+/// of length `len` down to `min_len` ends with.
+fn cells(len: f64, min_len: f64) -> usize {
+    let mut m = 1usize;
+    let mut w = len;
+    while w > min_len && m < 4096 {
+        w *= 0.5;
+        m *= 2;
+    }
+    m
 }
 
 fn unit(n: [f64; 3]) -> Option<[f64; 3]> {

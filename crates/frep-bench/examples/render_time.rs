@@ -1,0 +1,86 @@
+//! A quick render timer for profiling the ray caster:
+//! `render_time [filter] [size] [view] [threads] [reps]`, view `top` (fidget's
+//! orthographic top-down view over `[-1, 1]³`) or `turn` (the perspective
+//! turntable of the model's own box). Prints the minimum time per example,
+//! and the caster's counters with `FREP_BENCH_STATS=1`.
+
+use std::time::{Duration, Instant};
+
+use frep_core::Model;
+use frep_render::camera::Projection;
+use frep_render::{render_with, Aabb, Camera, ModelCaster, RenderSettings};
+
+fn bounds_of(src: &str) -> Aabb {
+    src.lines()
+        .find_map(|l| l.trim().strip_prefix("-- bounds:"))
+        .map(|b| {
+            let v: Vec<f64> = b.split(',').map(|s| s.trim().parse().unwrap()).collect();
+            Aabb::new([v[0], v[1], v[2]], [v[3], v[4], v[5]])
+        })
+        .unwrap_or(Aabb::new([-10.0; 3], [10.0; 3]))
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let arg = |i: usize, d: &str| args.get(i).cloned().unwrap_or_else(|| d.to_string());
+    let filter = arg(0, "");
+    let size: u32 = arg(1, "512").parse().expect("size");
+    let view = arg(2, "turn");
+    let threads: usize = arg(3, "2").parse().expect("threads");
+    let reps: usize = arg(4, "5").parse().expect("reps");
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .expect("pool");
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples");
+    let mut files: Vec<String> = std::fs::read_dir(dir)
+        .expect("examples")
+        .filter_map(|e| e.ok())
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".hf") && n.contains(filter.as_str()))
+        .collect();
+    files.sort();
+    for file in files {
+        let src = std::fs::read_to_string(format!("{dir}/{file}")).expect("source");
+        let model = Model::compile(&src).expect("compiles");
+        let (bounds, cam) = if view == "top" {
+            let cam = Camera::look_at(
+                [0.0, 0.0, 3.0],
+                [0.0, 0.0, 0.0],
+                [0.0, 1.0, 0.0],
+                Projection::Orthographic { half_extent: 1.0 },
+            );
+            (Aabb::new([-1.0; 3], [1.0; 3]), cam)
+        } else {
+            let b = bounds_of(&src);
+            let s = RenderSettings {
+                bounds: b,
+                ..Default::default()
+            };
+            (b, s.camera())
+        };
+        let s = RenderSettings {
+            size: (size, size),
+            bounds,
+            ..Default::default()
+        };
+        let mut best = Duration::MAX;
+        let mut stats = None;
+        for _ in 0..reps {
+            let caster = ModelCaster::new(&model, Default::default(), bounds);
+            let t = Instant::now();
+            let img = pool.install(|| render_with(&caster, &s, &cam, None).unwrap());
+            best = best.min(t.elapsed());
+            std::hint::black_box(img);
+            stats = Some(caster.stats());
+        }
+        print!(
+            "{file:<24} {size}² {view} {threads}t {:8.1} ms",
+            best.as_secs_f64() * 1e3
+        );
+        if std::env::var_os("FREP_BENCH_STATS").is_some() {
+            print!("  {:?}", stats.unwrap());
+        }
+        println!();
+    }
+}
