@@ -67,7 +67,14 @@ fn main() {
         let mut best = Duration::MAX;
         let mut stats = None;
         for _ in 0..reps {
-            let caster = ModelCaster::new(&model, Default::default(), bounds);
+            let mut caster = ModelCaster::new(&model, Default::default(), bounds);
+            let knob = |k: &str| std::env::var(k).ok().and_then(|v| v.parse::<f64>().ok());
+            if let Some(v) = knob("FREP_STEP_PX") {
+                caster.step_px = v;
+            }
+            if let Some(v) = knob("FREP_LEAF_DEPTH_PX") {
+                caster.leaf_depth_px = v;
+            }
             let t = Instant::now();
             let img = pool.install(|| render_with(&caster, &s, &cam, None).unwrap());
             best = best.min(t.elapsed());

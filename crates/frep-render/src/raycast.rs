@@ -52,9 +52,11 @@ use crate::tiles::{cast_tiled, tiles, Tile, TileCaster};
 /// Leaves of the tile subdivision are at most this many pixels wide.
 pub const LEAF: u32 = 8;
 
-/// Bisection steps that refine a bracketed crossing (then one secant step):
-/// the bracket shrinks to `1/2^REFINE` of a sampling step.
+/// At most this many bisection steps refine a bracketed crossing (then one
+/// secant step)...
 const REFINE: usize = 8;
+/// ...until the bracket is at most this many pixel footprints wide.
+const REFINE_PX: f64 = 1.0 / 16.0;
 
 /// The largest image the renderer accepts: 16 384 pixels a side and 64
 /// megapixels in all.
@@ -113,7 +115,7 @@ impl ModelCaster {
             inputs,
             bounds,
             cancel: None,
-            step_px: 1.0,
+            step_px: 2.0,
             fallback_depth: 3,
             leaf_depth_px: 16.0,
             stats: AtomicStats::default(),
@@ -129,7 +131,7 @@ impl ModelCaster {
             inputs,
             bounds,
             cancel: None,
-            step_px: 1.0,
+            step_px: 2.0,
             fallback_depth: 3,
             leaf_depth_px: 16.0,
             stats: AtomicStats::default(),
@@ -239,6 +241,11 @@ struct Scratch {
     nodes: usize,
     attr: Option<BatchEval>,
     rays: Vec<RayInfo>,
+    /// Per ray, its depth range while it is live and unresolved, else
+    /// `[+∞, −∞]`.
+    zr: Vec<[f64; 2]>,
+    /// Rays whose hit still needs its normal (see [`TileCtx::flush_normals`]).
+    need_normal: Vec<usize>,
     tails: Vec<Tail>,
     xs: Vec<f64>,
     ys: Vec<f64>,
@@ -262,6 +269,8 @@ impl Scratch {
             nodes: tape.len(),
             attr: None,
             rays: Vec::new(),
+            zr: Vec::new(),
+            need_normal: Vec::new(),
             tails: Vec::new(),
             xs: Vec::new(),
             ys: Vec::new(),
@@ -472,6 +481,14 @@ impl<'a> TileCtx<'a> {
                 });
             }
         }
+        sc.zr.clear();
+        sc.zr.extend(sc.rays.iter().map(|r| {
+            if r.live {
+                [r.z0, r.z1]
+            } else {
+                [f64::INFINITY, f64::NEG_INFINITY]
+            }
+        }));
         sc.tails.clear();
         sc.tails.resize(sc.rays.len(), Tail::default());
         TileCtx {
@@ -519,16 +536,20 @@ impl<'a> TileCtx<'a> {
         let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
         for y in rect.y0..rect.y1 {
             let row = (y * self.tw) as usize;
-            for i in row + rect.x0 as usize..row + rect.x1 as usize {
-                let r = &self.sc.rays[i];
-                if !r.live || self.out[i].is_some() || r.z1 < za || r.z0 > zb {
-                    continue;
+            for &[z0, z1] in &self.sc.zr[row + rect.x0 as usize..row + rect.x1 as usize] {
+                if z1 >= za && z0 <= zb {
+                    lo = lo.min(z0.max(za));
+                    hi = hi.max(z1.min(zb));
                 }
-                lo = lo.min(r.z0.max(za));
-                hi = hi.max(r.z1.min(zb));
             }
         }
         (lo <= hi).then_some((lo, hi))
+    }
+
+    /// Records ray `i`'s hit.
+    fn set_hit(&mut self, i: usize, h: Hit) {
+        self.out[i] = Some(h);
+        self.sc.zr[i] = [f64::INFINITY, f64::NEG_INFINITY];
     }
 
     /// The evaluator of the tape `e` shortened for the box it was last
@@ -635,13 +656,17 @@ impl<'a> TileCtx<'a> {
                     continue;
                 }
                 let z = za.max(r.z0);
-                let hit = self.make_hit(e, i, z, z <= r.z0);
-                self.out[i] = Some(hit);
+                let hit = self.make_hit(i, z, z <= r.z0);
+                self.set_hit(i, hit);
             }
         }
+        self.flush_normals(e);
     }
 
-    fn make_hit(&mut self, e: usize, i: usize, z: f64, at_entry: bool) -> Hit {
+    /// The hit of ray `i` at depth `z`; its normal is the model box face's
+    /// where the solid is cut open there, else left for
+    /// [`TileCtx::flush_normals`].
+    fn make_hit(&mut self, i: usize, z: f64, at_entry: bool) -> Hit {
         let r = self.sc.rays[i];
         let p = r.at_depth(z);
         let face = if at_entry && z > 0.0 {
@@ -651,7 +676,10 @@ impl<'a> TileCtx<'a> {
         };
         let normal = match face {
             Some(n) => n,
-            None => self.normal(e, &r, p, z),
+            None => {
+                self.sc.need_normal.push(i);
+                [f64::NAN; 3]
+            }
         };
         Hit {
             t: z / r.c,
@@ -659,6 +687,56 @@ impl<'a> TileCtx<'a> {
             normal,
             color: None,
         }
+    }
+
+    /// Normals of the hits made since the last call: central differences
+    /// at half a pixel footprint, all hits in one batch (evaluator `e`);
+    /// where they vanish, [`TileCtx::normal`].
+    fn flush_normals(&mut self, e: usize) {
+        let sc = &mut *self.sc;
+        if sc.need_normal.is_empty() {
+            return;
+        }
+        let need = std::mem::take(&mut sc.need_normal);
+        sc.clear_points();
+        for &i in &need {
+            let Some(h) = &self.out[i] else { continue };
+            let z = h.t * sc.rays[i].c;
+            let d = 0.5 * self.rm.pixel_footprint(z).max(1e-9 * (1.0 + z.abs()));
+            let p = h.position;
+            for k in 0..3 {
+                for s in [d, -d] {
+                    let mut q = p;
+                    q[k] += s;
+                    sc.xs.push(q[0]);
+                    sc.ys.push(q[1]);
+                    sc.zs.push(q[2]);
+                }
+            }
+        }
+        self.stats.point_evals += sc.xs.len() as u64;
+        sc.eval_points(e, &self.caster.inputs);
+        let vals = std::mem::take(&mut self.sc.vals);
+        let mut j = 0;
+        for &i in &need {
+            let Some(h) = self.out[i] else { continue };
+            let v = &vals[j * 6..j * 6 + 6];
+            j += 1;
+            let n = [-(v[0] - v[1]), -(v[2] - v[3]), -(v[4] - v[5])];
+            let n = match unit(n) {
+                Some(n) => n,
+                None => {
+                    let r = self.sc.rays[i];
+                    self.normal(e, &r, h.position, h.t * r.c)
+                }
+            };
+            if let Some(h) = &mut self.out[i] {
+                h.normal = n;
+            }
+        }
+        self.sc.vals = vals;
+        self.sc.need_normal = need;
+        self.sc.need_normal.clear();
     }
 
     /// The outward normal of the model box face `p` lies on, if it does and
@@ -714,8 +792,10 @@ impl<'a> TileCtx<'a> {
 
     /// The finest depth resolution of thin-feature searches, for sampling
     /// steps of `step`.
-    fn min_len(&self, step: f64) -> f64 {
-        step / (1u64 << self.caster.fallback_depth.min(20)) as f64
+    /// (A fraction of the sampling step or of the pixel footprint at depth
+    /// `z`, whichever is smaller.)
+    fn min_len(&self, step: f64, z: f64) -> f64 {
+        step.min(self.footprint(z)) / (1u64 << self.caster.fallback_depth.min(20)) as f64
     }
 
     /// Searches the buffered `searches` (all with evaluator `e`) for a
@@ -724,6 +804,27 @@ impl<'a> TileCtx<'a> {
     /// bisection down to `min_len` would test), all in one batch; the first
     /// inside midpoint gives a bracket.
     fn run_searches(&mut self, e: usize, min_len: f64) {
+        if self.sc.searches.is_empty() {
+            return;
+        }
+        // One interval evaluation over each segment first: most local
+        // maxima of smooth fields are far from the surface.
+        let mut searches = std::mem::take(&mut self.sc.searches);
+        searches.retain(|&(i, a, b, _)| {
+            let r = &self.sc.rays[i];
+            let (pa, pb) = (r.at_depth(a), r.at_depth(b));
+            self.stats.interval_evals += 1;
+            !self.sc.evals[e]
+                .interval
+                .eval(
+                    iv(pa[0].min(pb[0]), pa[0].max(pb[0])),
+                    iv(pa[1].min(pb[1]), pa[1].max(pb[1])),
+                    iv(pa[2].min(pb[2]), pa[2].max(pb[2])),
+                    &self.caster.inputs,
+                )
+                .is_outside()
+        });
+        self.sc.searches = searches;
         let sc = &mut *self.sc;
         if sc.searches.is_empty() {
             return;
@@ -783,13 +884,17 @@ impl<'a> TileCtx<'a> {
         let brackets = std::mem::take(&mut self.sc.brackets);
         let direct = std::mem::take(&mut self.sc.direct);
         let searches = std::mem::take(&mut self.sc.searches);
+        // Hits of another box waiting for normals (from `fill`): not with
+        // this tape.
+        let need = std::mem::take(&mut self.sc.need_normal);
         self.sc.searches.push((i, t.z_prev, t.z_last, t.f_prev));
-        self.run_searches(e, self.min_len(step));
+        self.run_searches(e, self.min_len(step, t.z_prev));
         let hit = !self.sc.brackets.is_empty();
         self.finish(e);
         self.sc.brackets = brackets;
         self.sc.direct = direct;
         self.sc.searches = searches;
+        self.sc.need_normal = need;
         hit
     }
 
@@ -807,15 +912,16 @@ impl<'a> TileCtx<'a> {
             } else {
                 b.hi
             };
-            let h = self.make_hit(e, b.ray, z.clamp(b.lo, b.hi), false);
-            self.out[b.ray] = Some(h);
+            let h = self.make_hit(b.ray, z.clamp(b.lo, b.hi), false);
+            self.set_hit(b.ray, h);
             hit_rays.push(b.ray);
         }
         for &(i, z, at_entry) in &direct {
-            let h = self.make_hit(e, i, z, at_entry);
-            self.out[i] = Some(h);
+            let h = self.make_hit(i, z, at_entry);
+            self.set_hit(i, h);
             hit_rays.push(i);
         }
+        self.flush_normals(e);
         self.colors(&hit_rays);
         self.sc.brackets = brackets;
         self.sc.brackets.clear();
@@ -961,21 +1067,38 @@ impl<'a> TileCtx<'a> {
             sc.direct.retain(|d| keep(d.0));
             sc.searches.retain(|s| keep(s.0));
         }
-        let min_len = self.min_len(step);
+        let min_len = self.min_len(step, za);
         self.run_searches(e, min_len);
         self.finish(e);
         self.sc.leaf_rays = leaf_rays;
     }
 
-    /// Bisection of every buffered bracket at once (one batch per step).
+    /// Bisection of the buffered brackets at once (one batch per step)
+    /// until each is at most [`REFINE_PX`] pixel footprints wide (at most
+    /// [`REFINE`] steps).
     fn refine(&mut self, e: usize) {
-        let sc = &mut *self.sc;
-        if sc.brackets.is_empty() {
+        if self.sc.brackets.is_empty() {
             return;
         }
+        let mut tol = std::mem::take(&mut self.sc.fracs);
+        tol.clear();
+        for b in &self.sc.brackets {
+            tol.push(REFINE_PX * self.footprint(b.lo));
+        }
+        let mut active: Vec<usize> = Vec::with_capacity(tol.len());
+        let sc = &mut *self.sc;
         for _ in 0..REFINE {
+            active.clear();
+            active.extend((0..sc.brackets.len()).filter(|&j| {
+                let b = &sc.brackets[j];
+                b.hi - b.lo > tol[j]
+            }));
+            if active.is_empty() {
+                break;
+            }
             sc.clear_points();
-            for b in &sc.brackets {
+            for &j in &active {
+                let b = &sc.brackets[j];
                 let p = sc.rays[b.ray].at_depth(0.5 * (b.lo + b.hi));
                 sc.xs.push(p[0]);
                 sc.ys.push(p[1]);
@@ -983,7 +1106,8 @@ impl<'a> TileCtx<'a> {
             }
             self.stats.point_evals += sc.xs.len() as u64;
             sc.eval_points(e, &self.caster.inputs);
-            for (b, &f) in sc.brackets.iter_mut().zip(&sc.vals) {
+            for (&j, &f) in active.iter().zip(&sc.vals) {
+                let b = &mut sc.brackets[j];
                 let m = 0.5 * (b.lo + b.hi);
                 if f >= 0.0 {
                     b.hi = m;
@@ -994,6 +1118,7 @@ impl<'a> TileCtx<'a> {
                 }
             }
         }
+        self.sc.fracs = tol;
     }
 
     /// Attribute colours (`s[1..3]` as sRGB in `[0, 1]`) at the given hits.
