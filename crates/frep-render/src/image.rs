@@ -408,7 +408,15 @@ impl Shader {
         let rd = dot(n, rim).max(0.0) as f32;
         let half = normalize(add(key, view));
         let spec = if kd > 0.0 {
-            lighting.specular * (dot(n, half).max(0.0) as f32).powf(lighting.shininess)
+            let x = dot(n, half).max(0.0) as f32;
+            let e = lighting.shininess;
+            // Whole exponents (the default 40) by multiplication, no powf.
+            let p = if e.fract() == 0.0 && (0.0..=1024.0).contains(&e) {
+                x.powi(e as i32)
+            } else {
+                x.powf(e)
+            };
+            lighting.specular * p
         } else {
             0.0
         };

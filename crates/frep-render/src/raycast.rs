@@ -406,6 +406,23 @@ struct Bracket {
     hi: f64,
     f_lo: f64,
     f_hi: f64,
+    /// Which end the last refinement step kept (−1 lo, 1 hi, 0 none), for
+    /// the Illinois rule.
+    kept: i8,
+}
+
+impl Bracket {
+    /// The next trial depth: the secant (false position) point kept away
+    /// from the ends, or the midpoint where the values do not allow one.
+    fn trial(&self) -> f64 {
+        let (fl, fh) = (self.f_lo, self.f_hi);
+        let w = self.hi - self.lo;
+        if fl.is_finite() && fh.is_finite() && fl < 0.0 && fh > fl {
+            self.lo + w * (-fl / (fh - fl)).clamp(1.0 / 16.0, 15.0 / 16.0)
+        } else {
+            self.lo + 0.5 * w
+        }
+    }
 }
 
 /// NaN (outside) as −∞, for comparing samples.
@@ -859,6 +876,7 @@ impl<'a> TileCtx<'a> {
                         hi: z,
                         f_lo,
                         f_hi: f,
+                        kept: 0,
                     });
                     break;
                 }
@@ -1006,6 +1024,7 @@ impl<'a> TileCtx<'a> {
                     hi: z(k),
                     f_lo: v[k - 1],
                     f_hi: v[k],
+                    kept: 0,
                 }),
                 None => {
                     // No sample inside: a feature thinner than a step can
@@ -1073,9 +1092,9 @@ impl<'a> TileCtx<'a> {
         self.sc.leaf_rays = leaf_rays;
     }
 
-    /// Bisection of the buffered brackets at once (one batch per step)
-    /// until each is at most [`REFINE_PX`] pixel footprints wide (at most
-    /// [`REFINE`] steps).
+    /// Refines the buffered brackets at once (one batch per step) by false
+    /// position with the Illinois rule, kept off the ends, until each is at
+    /// most [`REFINE_PX`] pixel footprints wide (at most [`REFINE`] steps).
     fn refine(&mut self, e: usize) {
         if self.sc.brackets.is_empty() {
             return;
@@ -1099,7 +1118,7 @@ impl<'a> TileCtx<'a> {
             sc.clear_points();
             for &j in &active {
                 let b = &sc.brackets[j];
-                let p = sc.rays[b.ray].at_depth(0.5 * (b.lo + b.hi));
+                let p = sc.rays[b.ray].at_depth(b.trial());
                 sc.xs.push(p[0]);
                 sc.ys.push(p[1]);
                 sc.zs.push(p[2]);
@@ -1108,13 +1127,21 @@ impl<'a> TileCtx<'a> {
             sc.eval_points(e, &self.caster.inputs);
             for (&j, &f) in active.iter().zip(&sc.vals) {
                 let b = &mut sc.brackets[j];
-                let m = 0.5 * (b.lo + b.hi);
+                let m = b.trial();
                 if f >= 0.0 {
                     b.hi = m;
                     b.f_hi = f;
+                    if b.kept == -1 {
+                        b.f_lo *= 0.5;
+                    }
+                    b.kept = -1;
                 } else {
                     b.lo = m;
                     b.f_lo = f;
+                    if b.kept == 1 {
+                        b.f_hi *= 0.5;
+                    }
+                    b.kept = 1;
                 }
             }
         }
