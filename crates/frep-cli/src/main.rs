@@ -2,6 +2,7 @@
 
 mod eval;
 mod format;
+mod glsl;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -40,6 +41,24 @@ enum Command {
         #[arg(long)]
         body: Option<String>,
     },
+    /// Write the WebGL2 (GLSL ES 3.00) ray-casting fragment shader of a
+    /// model, annotated with its uniforms, and the uniforms as JSON
+    /// (`OUT.json`). Every constant is a uniform: editing a number of the
+    /// model only changes the JSON.
+    Glsl {
+        /// The HyperFun model (.hf).
+        model: PathBuf,
+        /// The fragment shader to write; the uniforms go to OUT.json.
+        #[arg(short, long)]
+        output: PathBuf,
+        /// The body to compile (default: my_model, else the first).
+        #[arg(long)]
+        body: Option<String>,
+        /// The box ray cast, `x0,y0,z0,x1,y1,z1` (default: the model's
+        /// `-- bounds:` comment line, else HyperFun's [-10, 10]³).
+        #[arg(long, allow_hyphen_values = true)]
+        bounds: Option<String>,
+    },
 }
 
 /// Reads and compiles a model; a model error is printed with its source line
@@ -65,6 +84,12 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Eval { model, body } => eval::run(&model, body),
         Command::Check { model, body } => eval::check(&model, body),
+        Command::Glsl {
+            model,
+            output,
+            body,
+            bounds,
+        } => glsl::run(&model, body, &output, bounds),
     };
     match result {
         Ok(code) => code,
