@@ -1,8 +1,11 @@
 //! `frep`: the command line of the frep FRep modelling system.
 
+mod bounds;
 mod eval;
 mod format;
 mod glsl;
+mod mesh;
+mod render;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -33,6 +36,40 @@ enum Command {
         #[arg(long)]
         body: Option<String>,
     },
+    /// Polygonize a model and write the mesh (.stl, .obj, .ply, .glb or .3mf); prints
+    /// triangles, vertices and time. Box: --bounds, else the file's `-- bounds:` comment,
+    /// else the detected extent, else hfp's ±10.
+    Mesh {
+        /// The HyperFun model (.hf).
+        model: PathBuf,
+        /// Output file; the extension picks the format.
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Bounding box in hfp's -b forms: v | min,max | xs,ys,zs | x0,y0,z0,x1,y1,z1.
+        #[arg(short, long, allow_hyphen_values = true)]
+        bounds: Option<String>,
+        /// Octree depth: 2^depth cells along the longest side of the box (default 7).
+        #[arg(short, long)]
+        depth: Option<u8>,
+        /// hfp-style grid instead of --depth: cells per axis, n or nx,ny,nz (2..=250).
+        #[arg(short, long)]
+        grid: Option<String>,
+        /// dc (dual contouring, sharp features), watertight, or mc (uniform baseline).
+        #[arg(short, long, default_value = "watertight")]
+        method: String,
+        /// The body to polygonize (default: my_model, else the first).
+        #[arg(long)]
+        body: Option<String>,
+        /// Parameters a[1], a[2], ... as a comma-separated list.
+        #[arg(long, allow_hyphen_values = true)]
+        param: Option<String>,
+        /// Error-bounded simplification after meshing, as a fraction of the cell size.
+        #[arg(long)]
+        simplify: Option<f64>,
+        /// No progress bar or box report.
+        #[arg(short, long)]
+        quiet: bool,
+    },
     /// Check a model: print its diagnostics, or a summary.
     Check {
         /// The HyperFun model (.hf).
@@ -54,11 +91,19 @@ enum Command {
         /// The body to compile (default: my_model, else the first).
         #[arg(long)]
         body: Option<String>,
-        /// The box ray cast, `x0,y0,z0,x1,y1,z1` (default: the model's
-        /// `-- bounds:` comment line, else HyperFun's [-10, 10]³).
+        /// The box ray cast (`v`, `min,max`, `xs,ys,zs` or
+        /// `x0,y0,z0,x1,y1,z1`; default: the model's `-- bounds:` line, else
+        /// its detected extent, else [-10, 10]³).
         #[arg(long, allow_hyphen_values = true)]
         bounds: Option<String>,
+        /// Default values of the parameters a[] (`u_params`), `a1,a2,…`.
+        #[arg(long, allow_hyphen_values = true)]
+        param: Option<String>,
     },
+    /// Render an image of a model (or, with --views, a turntable view set).
+    Render(render::RenderArgs),
+    /// Sample a model on a grid: a PNG slice stack and an 8-bit 3D texture.
+    Slices(render::SlicesArgs),
 }
 
 /// Reads and compiles a model; a model error is printed with its source line
@@ -89,7 +134,33 @@ fn main() -> ExitCode {
             output,
             body,
             bounds,
-        } => glsl::run(&model, body, &output, bounds),
+            param,
+        } => glsl::run(&model, body, &output, bounds, param),
+        Command::Render(args) => render::render(args),
+        Command::Slices(args) => render::slices(args),
+        Command::Mesh {
+            model,
+            output,
+            bounds,
+            depth,
+            grid,
+            method,
+            body,
+            param,
+            simplify,
+            quiet,
+        } => mesh::run(mesh::Options {
+            model,
+            output,
+            bounds,
+            depth,
+            grid,
+            method,
+            body,
+            params: param,
+            simplify,
+            quiet,
+        }),
     };
     match result {
         Ok(code) => code,

@@ -47,6 +47,8 @@ fn glsl_writes_shader_and_uniforms() {
             "-2,-2,-2,2,2,2",
             "--body",
             "my_model",
+            "--param",
+            "0.5",
             "-o",
         ])
         .arg(&out2)
@@ -59,14 +61,25 @@ fn glsl_writes_shader_and_uniforms() {
         "{json}"
     );
 
+    assert!(
+        json.contains("\"name\":\"u_params\",\"type\":\"float[1]\",\"values\":[0.5]"),
+        "{json}"
+    );
+
     // Bad bounds: an error, exit status 2.
     let o = frep()
-        .args(["glsl", &example("m1_sphere.hf"), "--bounds", "1,2,3", "-o"])
+        .args([
+            "glsl",
+            &example("m1_sphere.hf"),
+            "--bounds",
+            "1,2,3,4",
+            "-o",
+        ])
         .arg(dir.join("bad.frag"))
         .output()
         .unwrap();
     assert_eq!(o.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&o.stderr).contains("six numbers"));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--bounds"));
 
     // A model error: exit status 1 with the diagnostic.
     let bad = dir.join("bad.hf");

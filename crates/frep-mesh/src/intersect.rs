@@ -82,8 +82,37 @@ fn segment_triangle(p: V, q: V, t: [V; 3]) -> bool {
     s.iter().all(|&x| x >= 0.0) || s.iter().all(|&x| x <= 0.0)
 }
 
+/// Whether the projections of two triangles onto some coordinate plane are separated by an
+/// edge line of one of them, the other triangle strictly on the far side: then they are
+/// disjoint, or with `shared = Some((i, j))` (vertex `i` of `t1` is vertex `j` of `t2`, and
+/// the edge line passes through it) they meet only there. The 2D tests are far better
+/// conditioned than the 3D orientations, which misjudge nearly coplanar pairs.
+fn projections_separated(t1: [V; 3], t2: [V; 3], shared: Option<(usize, usize)>) -> bool {
+    (0..3).any(|k| {
+        let (i, j) = ((k + 1) % 3, (k + 2) % 3);
+        let a = t1.map(|p| [p[i], p[j]]);
+        let b = t2.map(|p| [p[i], p[j]]);
+        let (sa, sb) = (shared.map(|s| s.0), shared.map(|s| s.1));
+        [(a, b, sa, sb), (b, a, sb, sa)]
+            .iter()
+            .any(|&(s, o, ss, os)| {
+                (0..3).any(|e| {
+                    if ss.is_some_and(|v| v != e && v != (e + 1) % 3) {
+                        return false;
+                    }
+                    let (p, q, r) = (s[e], s[(e + 1) % 3], s[(e + 2) % 3]);
+                    let side = orient2(p, q, r);
+                    side != 0.0 && (0..3).all(|x| Some(x) == os || orient2(p, q, o[x]) * side < 0.0)
+                })
+            })
+    })
+}
+
 /// Whether two triangles that share no vertex intersect (closed sets).
 fn triangles_meet(t1: [V; 3], t2: [V; 3]) -> bool {
+    if projections_separated(t1, t2, None) {
+        return false;
+    }
     let d2 = t1.map(|p| orient(t2[0], t2[1], t2[2], p));
     if d2.iter().all(|&d| d > 0.0) || d2.iter().all(|&d| d < 0.0) {
         return false;
@@ -160,6 +189,9 @@ fn pair_intersects(i1: [u32; 3], t1: [V; 3], i2: [u32; 3], t2: [V; 3]) -> bool {
         0 => triangles_meet(t1, t2),
         1 => {
             let (a, b) = shared[0];
+            if projections_separated(t1, t2, Some((a, b))) {
+                return false;
+            }
             meet_beyond_vertex(
                 t1[a],
                 t1[(a + 1) % 3],
@@ -194,6 +226,13 @@ impl Mesh {
     /// uniform grid sized to the mean triangle, so meshes of a few hundred thousand triangles
     /// take well under a second in release builds.
     pub fn self_intersections(&self, max_pairs: usize) -> usize {
+        self.self_intersection_pairs(max_pairs).len()
+    }
+
+    /// The intersecting pairs of triangles (indices into `triangles`) that
+    /// [`Mesh::self_intersections`] counts, at most `max_pairs` of them.
+    pub fn self_intersection_pairs(&self, max_pairs: usize) -> Vec<[usize; 2]> {
+        let mut found = Vec::new();
         let tris: Vec<usize> = (0..self.triangles.len())
             .filter(|&i| {
                 let t = self.triangles[i];
@@ -201,7 +240,7 @@ impl Mesh {
             })
             .collect();
         if tris.len() < 2 || max_pairs == 0 {
-            return 0;
+            return found;
         }
         let pos = |i: usize| self.triangles[i].map(|v| to_f64(self.positions[v as usize]));
         let boxes: Vec<[V; 2]> = tris
@@ -214,7 +253,6 @@ impl Mesh {
             })
             .collect();
         let grid = Grid::new(&boxes);
-        let mut count = 0;
         for cell in 0..grid.cells() {
             let members = grid.members(cell);
             for (x, &a) in members.iter().enumerate() {
@@ -230,15 +268,15 @@ impl Mesh {
                     }
                     let (ta, tb) = (tris[a as usize], tris[b as usize]);
                     if pair_intersects(self.triangles[ta], pos(ta), self.triangles[tb], pos(tb)) {
-                        count += 1;
-                        if count >= max_pairs {
-                            return count;
+                        found.push([ta, tb]);
+                        if found.len() >= max_pairs {
+                            return found;
                         }
                     }
                 }
             }
         }
-        count
+        found
     }
 }
 

@@ -12,9 +12,13 @@
 pub mod export;
 mod intersect;
 mod mesh;
+pub mod poly;
 mod topology;
 
 #[cfg(feature = "export")]
 pub use export::Format;
 pub use mesh::{InvalidMesh, Mesh};
+pub use poly::{
+    polygonize, CancelToken, Limits, MeshError, MeshSettings, Method, Progress, Resolution,
+};
 pub use topology::Topology;

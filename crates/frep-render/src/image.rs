@@ -1,6 +1,6 @@
 //! Images, hit buffers (what the ray caster produces) and shading.
 
-use crate::camera::{add, dot, normalize, scale, sub, Camera};
+use crate::camera::{add, dot, normalize, scale, sub, Camera, Projection};
 
 /// An 8-bit sRGB image with alpha, rows top to bottom.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -274,81 +274,125 @@ fn to_byte(c: f32) -> u8 {
 /// missed, and sRGB encoding. Surfaces seen from behind (e.g. where the
 /// bounding box cuts the solid open) are lit as if facing the viewer.
 pub fn shade(hits: &HitBuffer, lighting: &Lighting) -> Image {
-    let cam = &hits.camera;
     let (w, h) = (hits.width, hits.height);
-    let to_world = |d: [f64; 3]| {
-        normalize(add(
-            add(scale(cam.right, d[0]), scale(cam.up, d[1])),
-            scale(cam.forward, -d[2]),
-        ))
-    };
-    let key = to_world(lighting.key.dir);
-    let fill = to_world(lighting.fill.dir);
-    let rim = to_world(lighting.rim.dir);
-    let base = lighting.base_color.map(srgb_to_linear);
-    let encode = |c: f32| {
-        if lighting.srgb {
-            linear_to_srgb(c)
-        } else {
-            c.clamp(0.0, 1.0)
-        }
-    };
+    let shader = Shader::new(&hits.camera, lighting, w, h);
     let mut img = Image::filled(w, h, [0, 0, 0, 255]);
     for y in 0..h {
-        let s = if h > 1 {
-            y as f32 / (h - 1) as f32
-        } else {
-            0.5
-        };
-        let bg: [u8; 3] = std::array::from_fn(|k| {
-            to_byte(lighting.background_top[k] * (1.0 - s) + lighting.background_bottom[k] * s)
-        });
         for x in 0..w {
             let i = y as usize * w as usize + x as usize;
-            let Some(hit) = &hits.hits[i] else {
-                img.rgba[i * 4..i * 4 + 3].copy_from_slice(&bg);
-                continue;
-            };
-            let view = normalize(sub(cam.ray(x, y, w, h).origin, hit.position));
-            let view = if view.iter().all(|v| v.is_finite()) && dot(view, view) > 0.5 {
-                view
-            } else {
-                scale(cam.forward, -1.0)
-            };
-            let mut n = normalize(hit.normal);
-            if !(n.iter().all(|v| v.is_finite()) && dot(n, n) > 0.5) {
-                n = view;
-            }
-            if dot(n, view) < 0.0 {
-                n = scale(n, -1.0);
-            }
-            let albedo = hit.color.map_or(base, |c| c.map(srgb_to_linear));
-            let ao = hits.ao.as_ref().map_or(1.0, |a| {
-                1.0 - lighting.ao_strength * (1.0 - a[i].clamp(0.0, 1.0))
-            });
-            let hemi = 0.5 + 0.5 * n[2] as f32;
-            let kd = dot(n, key).max(0.0) as f32;
-            let fd = dot(n, fill).max(0.0) as f32;
-            let rd = dot(n, rim).max(0.0) as f32;
-            let half = normalize(add(key, view));
-            let spec = if kd > 0.0 {
-                lighting.specular * (dot(n, half).max(0.0) as f32).powf(lighting.shininess)
-            } else {
-                0.0
-            };
-            let rgb: [u8; 3] = std::array::from_fn(|k| {
-                let amb = (lighting.sky[k] * hemi + lighting.ground[k] * (1.0 - hemi)) * ao;
-                let diffuse = lighting.key.color[k] * kd
-                    + lighting.fill.color[k] * fd
-                    + lighting.rim.color[k] * rd;
-                let c = albedo[k] * (amb + diffuse * (0.35 + 0.65 * ao))
-                    + spec * lighting.key.color[k] * ao;
-                to_byte(encode(c))
-            });
+            let ao = hits.ao.as_ref().map(|a| a[i]);
+            let rgb = shader.pixel(x, y, hits.hits[i].as_ref(), ao);
             img.rgba[i * 4..i * 4 + 3].copy_from_slice(&rgb);
         }
     }
     img
+}
+
+/// The per-pixel part of [`shade`], for callers that shade tile by tile
+/// (without holding a whole [`HitBuffer`]): [`Shader::pixel`] gives exactly
+/// the colour [`shade`] gives that pixel.
+#[derive(Clone, Debug)]
+pub struct Shader {
+    camera: Camera,
+    lighting: Lighting,
+    height: u32,
+    key: [f64; 3],
+    fill: [f64; 3],
+    rim: [f64; 3],
+    base: [f32; 3],
+}
+
+impl Shader {
+    /// A shader for a `width`×`height` image seen by `camera`.
+    pub fn new(camera: &Camera, lighting: &Lighting, width: u32, height: u32) -> Shader {
+        let _ = width;
+        let cam = camera;
+        let to_world = |d: [f64; 3]| {
+            normalize(add(
+                add(scale(cam.right, d[0]), scale(cam.up, d[1])),
+                scale(cam.forward, -d[2]),
+            ))
+        };
+        Shader {
+            camera: *camera,
+            lighting: lighting.clone(),
+            height,
+            key: to_world(lighting.key.dir),
+            fill: to_world(lighting.fill.dir),
+            rim: to_world(lighting.rim.dir),
+            base: lighting.base_color.map(srgb_to_linear),
+        }
+    }
+
+    /// The RGB bytes of pixel `(x, y)` with this hit (`None`: background)
+    /// and ambient-occlusion factor (`None`: fully open).
+    pub fn pixel(&self, x: u32, y: u32, hit: Option<&Hit>, ao: Option<f32>) -> [u8; 3] {
+        let lighting = &self.lighting;
+        let cam = &self.camera;
+        // The pixel column does not matter (yet): the view direction comes
+        // from the hit.
+        let _ = x;
+        let h = self.height;
+        let encode = |c: f32| {
+            if lighting.srgb {
+                linear_to_srgb(c)
+            } else {
+                c.clamp(0.0, 1.0)
+            }
+        };
+        let Some(hit) = hit else {
+            let s = if h > 1 {
+                y as f32 / (h - 1) as f32
+            } else {
+                0.5
+            };
+            return std::array::from_fn(|k| {
+                to_byte(lighting.background_top[k] * (1.0 - s) + lighting.background_bottom[k] * s)
+            });
+        };
+        let (key, fill, rim) = (self.key, self.fill, self.rim);
+        // The direction back along the pixel's ray (`cam.ray(x, y).origin`
+        // is the eye, or for orthographic views a point straight back).
+        let view = match cam.projection {
+            Projection::Perspective { .. } => normalize(sub(cam.eye, hit.position)),
+            Projection::Orthographic { .. } => scale(cam.forward, -1.0),
+        };
+        let view = if view.iter().all(|v| v.is_finite()) && dot(view, view) > 0.5 {
+            view
+        } else {
+            scale(cam.forward, -1.0)
+        };
+        let mut n = normalize(hit.normal);
+        if !(n.iter().all(|v| v.is_finite()) && dot(n, n) > 0.5) {
+            n = view;
+        }
+        if dot(n, view) < 0.0 {
+            n = scale(n, -1.0);
+        }
+        let albedo = hit.color.map_or(self.base, |c| c.map(srgb_to_linear));
+        let ao = ao.map_or(1.0, |a| {
+            1.0 - lighting.ao_strength * (1.0 - a.clamp(0.0, 1.0))
+        });
+        let hemi = 0.5 + 0.5 * n[2] as f32;
+        let kd = dot(n, key).max(0.0) as f32;
+        let fd = dot(n, fill).max(0.0) as f32;
+        let rd = dot(n, rim).max(0.0) as f32;
+        let half = normalize(add(key, view));
+        let spec = if kd > 0.0 {
+            lighting.specular * (dot(n, half).max(0.0) as f32).powf(lighting.shininess)
+        } else {
+            0.0
+        };
+        std::array::from_fn(|k| {
+            let amb = (lighting.sky[k] * hemi + lighting.ground[k] * (1.0 - hemi)) * ao;
+            let diffuse = lighting.key.color[k] * kd
+                + lighting.fill.color[k] * fd
+                + lighting.rim.color[k] * rd;
+            let c = albedo[k] * (amb + diffuse * (0.35 + 0.65 * ao))
+                + spec * lighting.key.color[k] * ao;
+            to_byte(encode(c))
+        })
+    }
 }
 
 #[cfg(test)]

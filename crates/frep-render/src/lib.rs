@@ -1,6 +1,6 @@
 //! # frep-render
 //!
-//! Everything around the FRep ray caster that does not need the evaluators:
+//! The FRep ray caster and everything around it:
 //!
 //! - [`camera`]: turntable cameras that frame a bounding box, primary rays,
 //!   tile frusta (for interval pruning) and pixel footprints;
@@ -12,6 +12,7 @@
 //! - [`viewset`]: turntable view sets with a sprite sheet and JSON index;
 //! - [`slices`]: grid sampling through a batch callback, PNG slice stacks and
 //!   8-bit 3D textures;
+//! - [`raycast`]: the FRep ray caster ([`ModelCaster`]) and [`render`];
 //! - [`golden`]: text masks for small golden renders;
 //! - [`synthetic`]: an analytic sphere scene for tests and demos.
 //!
@@ -39,6 +40,7 @@ pub mod encode;
 pub mod golden;
 pub mod image;
 pub mod progressive;
+pub mod raycast;
 pub mod slices;
 pub mod synthetic;
 pub mod tiles;
@@ -47,8 +49,12 @@ pub mod viewset;
 pub use camera::{Aabb, Camera, Frustum, Projection, Ray};
 pub use encode::{encode, EncodeError, ImageFormat};
 pub use golden::ascii_mask;
-pub use image::{shade, DepthImage, Hit, HitBuffer, Image, Light, Lighting};
+pub use image::{shade, DepthImage, Hit, HitBuffer, Image, Light, Lighting, Shader};
 pub use progressive::{upscale_nearest, ProgressivePlan, ProgressiveStep};
+pub use raycast::{
+    render, render_camera, render_hits, render_with, CastStats, ModelCaster, RenderError,
+    RenderSettings,
+};
 pub use slices::{sample_grid, write_slices, Grid, SliceIndex, SliceOptions};
 pub use tiles::{cast_tiled, Tile, TileCaster};
 pub use viewset::{render_view_set, write_view_set, ViewSet, ViewSetIndex, ViewSetOptions};

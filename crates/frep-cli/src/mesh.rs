@@ -1,0 +1,124 @@
+//! `frep mesh`: polygonize a model and write the mesh.
+//!
+//! The box: `--bounds` (hfp's `-b` forms: `v`, `min,max`, `xs,ys,zs`, `x0,y0,z0,x1,y1,z1`),
+//! else the model file's `-- bounds: x0,y0,z0,x1,y1,z1` comment line, else an automatic
+//! extent found by interval arithmetic (cubes ±1, ±2, ±4, … ±1024 until the solid lies
+//! strictly inside one, then tightened and grown by 5 %), else hfp's ±10 (an unbounded
+//! solid, or none at all).
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use anyhow::{bail, Context};
+use frep_mesh::export::{self, Format};
+use frep_mesh::poly::bounds;
+use frep_mesh::{polygonize, CancelToken, MeshSettings, Method, Progress, Resolution};
+
+/// Options of `frep mesh`.
+pub struct Options {
+    pub model: PathBuf,
+    pub output: PathBuf,
+    pub bounds: Option<String>,
+    pub depth: Option<u8>,
+    pub grid: Option<String>,
+    pub method: String,
+    pub body: Option<String>,
+    pub params: Option<String>,
+    pub simplify: Option<f64>,
+    pub quiet: bool,
+}
+
+pub fn run(o: Options) -> anyhow::Result<ExitCode> {
+    let format = Format::from_path(&o.output).with_context(|| {
+        format!(
+            "{}: unknown extension (use .stl, .obj, .ply, .glb or .3mf)",
+            o.output.display()
+        )
+    })?;
+    let method = match o.method.as_str() {
+        "dc" => Method::DualContouring,
+        "watertight" | "wt" => Method::Watertight,
+        "mc" => Method::MarchingCubes,
+        m => bail!("unknown method {m:?} (dc, watertight or mc)"),
+    };
+    let (source, model) = match crate::load(&o.model, o.body)? {
+        Ok(m) => m,
+        Err(rendered) => {
+            eprint!("{rendered}");
+            return Ok(ExitCode::from(1));
+        }
+    };
+    let inputs = crate::bounds::inputs(o.params.as_deref())?;
+    let (bounds, origin) = crate::bounds::model_box(o.bounds.as_deref(), &source, &model, &inputs)?;
+    let resolution = match (&o.grid, o.depth) {
+        (Some(_), Some(_)) => bail!("give --depth or --grid, not both"),
+        (Some(g), None) => bounds::parse_grid(g, &bounds).map_err(anyhow::Error::msg)?,
+        (None, d) => Resolution::Depth(d.unwrap_or(7)),
+    };
+    let settings = MeshSettings {
+        bounds,
+        resolution,
+        method,
+        simplify: o.simplify,
+        colors: true,
+        inputs,
+        ..Default::default()
+    };
+    if !o.quiet {
+        eprintln!("box {:?} ({origin}), {resolution:?}, {method:?}", bounds);
+    }
+    let progress = Arc::new(Progress::new());
+    let done = Arc::new(AtomicBool::new(false));
+    let bar = (!o.quiet).then(|| {
+        let (p, d) = (progress.clone(), done.clone());
+        std::thread::spawn(move || {
+            let mut err = std::io::stderr();
+            while !d.load(Ordering::Relaxed) {
+                let f = p.fraction();
+                let w = (f * 40.0).round() as usize;
+                let _ = write!(
+                    err,
+                    "\r[{}{}] {:3.0}% ({} / {})",
+                    "#".repeat(w),
+                    " ".repeat(40 - w),
+                    f * 100.0,
+                    p.done(),
+                    p.estimated()
+                );
+                let _ = err.flush();
+                std::thread::sleep(Duration::from_millis(100));
+            }
+            let _ = write!(err, "\r{:70}\r", "");
+        })
+    });
+    let start = Instant::now();
+    let result = polygonize(&model, &settings, &progress, &CancelToken::new());
+    let elapsed = start.elapsed();
+    done.store(true, Ordering::Relaxed);
+    if let Some(b) = bar {
+        let _ = b.join();
+    }
+    let mesh = result.context("polygonizing")?;
+    write_mesh(&mesh, format, &o.output)?;
+    println!(
+        "{} triangles, {} vertices, {:.3} s",
+        mesh.triangles.len(),
+        mesh.vertex_count(),
+        elapsed.as_secs_f64()
+    );
+    Ok(ExitCode::SUCCESS)
+}
+
+fn write_mesh(mesh: &frep_mesh::Mesh, format: Format, path: &Path) -> anyhow::Result<()> {
+    let file =
+        std::fs::File::create(path).with_context(|| format!("cannot create {}", path.display()))?;
+    let mut w = std::io::BufWriter::new(file);
+    export::write(mesh, format, &mut w).with_context(|| format!("writing {}", path.display()))?;
+    w.flush()
+        .with_context(|| format!("writing {}", path.display()))?;
+    Ok(())
+}

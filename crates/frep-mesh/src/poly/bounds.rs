@@ -1,0 +1,213 @@
+//! Bounding boxes: hfp's `-b` and `-g` forms (SPEC §5) and automatic extent detection.
+
+use frep_core::eval::interval::{Interval, IntervalEval};
+use frep_core::eval::Inputs;
+use frep_core::Model;
+
+use super::Resolution;
+
+/// hfp's default box, `-10..10` on each axis.
+pub const HFP_DEFAULT: [f64; 6] = [-10.0, -10.0, -10.0, 10.0, 10.0, 10.0];
+
+fn numbers(s: &str) -> Result<Vec<f64>, String> {
+    s.split(',')
+        .map(|t| {
+            let t = t.trim();
+            t.parse::<f64>()
+                .ok()
+                .filter(|v| v.is_finite())
+                .ok_or_else(|| format!("not a number: {t:?}"))
+        })
+        .collect()
+}
+
+/// Parses a box in one of hfp's `-b` forms: `v` (±|v| on every axis), `min,max` (the same
+/// range on every axis), `xs,ys,zs` (±|each|) or `x0,y0,z0,x1,y1,z1`.
+pub fn parse_box(s: &str) -> Result<[f64; 6], String> {
+    let v = numbers(s)?;
+    let b = match v.len() {
+        1 => {
+            let a = v[0].abs();
+            [-a, -a, -a, a, a, a]
+        }
+        2 => [v[0], v[0], v[0], v[1], v[1], v[1]],
+        3 => {
+            let a = v.map_abs();
+            [-a[0], -a[1], -a[2], a[0], a[1], a[2]]
+        }
+        6 => [v[0], v[1], v[2], v[3], v[4], v[5]],
+        n => return Err(format!("a box has 1, 2, 3 or 6 numbers, not {n}")),
+    };
+    if (0..3).any(|k| b[k + 3].partial_cmp(&b[k]) != Some(std::cmp::Ordering::Greater)) {
+        return Err(format!("empty box {s:?}"));
+    }
+    Ok(b)
+}
+
+trait MapAbs {
+    fn map_abs(&self) -> [f64; 3];
+}
+
+impl MapAbs for Vec<f64> {
+    fn map_abs(&self) -> [f64; 3] {
+        [self[0].abs(), self[1].abs(), self[2].abs()]
+    }
+}
+
+/// hfp's `-g n` / `-g nx,ny,nz` (cells per axis, clamped to 2..=250 as hfp does) as a cell
+/// size for `bounds`: the finest of the axes' `extent / n`.
+pub fn parse_grid(s: &str, bounds: &[f64; 6]) -> Result<Resolution, String> {
+    let v = numbers(s)?;
+    let n: Vec<f64> = match v.len() {
+        1 => vec![v[0]; 3],
+        3 => v,
+        k => return Err(format!("a grid has 1 or 3 numbers, not {k}")),
+    };
+    let cell = (0..3)
+        .map(|k| (bounds[k + 3] - bounds[k]) / n[k].round().clamp(2.0, 250.0))
+        .fold(f64::INFINITY, f64::min);
+    Ok(Resolution::CellSize(cell))
+}
+
+/// Cells of a scan: 2^SCAN_DEPTH per axis.
+const SCAN_DEPTH: u32 = 5;
+
+struct Scan<'a> {
+    ev: IntervalEval,
+    inputs: &'a Inputs,
+    lo: [f64; 3],
+    hi: [f64; 3],
+    evals: usize,
+}
+
+impl Scan<'_> {
+    fn visit(&mut self, lo: [f64; 3], hi: [f64; 3], depth: u32) {
+        self.evals += 1;
+        if self.evals > 200_000 {
+            // Give up refining: count the cell as solid.
+            self.record(lo, hi);
+            return;
+        }
+        let iv = self.ev.eval(
+            Interval::new(lo[0], hi[0]),
+            Interval::new(lo[1], hi[1]),
+            Interval::new(lo[2], hi[2]),
+            self.inputs,
+        );
+        if iv.is_outside() {
+            return;
+        }
+        if depth == SCAN_DEPTH || iv.is_positive() {
+            self.record(lo, hi);
+            return;
+        }
+        let mid = [0, 1, 2].map(|k| 0.5 * (lo[k] + hi[k]));
+        for c in 0..8 {
+            let l = [0, 1, 2].map(|k| if c >> k & 1 == 1 { mid[k] } else { lo[k] });
+            let h = [0, 1, 2].map(|k| if c >> k & 1 == 1 { hi[k] } else { mid[k] });
+            self.visit(l, h, depth + 1);
+        }
+    }
+
+    fn record(&mut self, lo: [f64; 3], hi: [f64; 3]) {
+        for k in 0..3 {
+            self.lo[k] = self.lo[k].min(lo[k]);
+            self.hi[k] = self.hi[k].max(hi[k]);
+        }
+    }
+}
+
+/// Where the solid may be, within `[lo, hi]`, by interval arithmetic on a 32³ octree:
+/// `None` when nowhere.
+fn scan(
+    model: &Model,
+    inputs: &Inputs,
+    lo: [f64; 3],
+    hi: [f64; 3],
+) -> Option<([f64; 3], [f64; 3])> {
+    let mut s = Scan {
+        ev: IntervalEval::new(&model.tape()),
+        inputs,
+        lo: [f64::INFINITY; 3],
+        hi: [f64::NEG_INFINITY; 3],
+        evals: 0,
+    };
+    s.visit(lo, hi, 0);
+    (s.lo[0] <= s.hi[0]).then_some((s.lo, s.hi))
+}
+
+/// Detects a box around the model's solid: cubes `±2^k` (k = 0..=10) are scanned with
+/// interval arithmetic until the solid lies strictly inside one; the box is then tightened by
+/// a second scan and grown by 5 % on each side. `None` when no solid is found or when it
+/// reaches even `±1024` (an unbounded solid such as a half-space): use an explicit box then
+/// (hfp's default is [`HFP_DEFAULT`]).
+pub fn detect(model: &Model, inputs: &Inputs) -> Option<[f64; 6]> {
+    for k in 0..=10 {
+        let l = (1u32 << k) as f64;
+        let Some((lo, hi)) = scan(model, inputs, [-l; 3], [l; 3]) else {
+            continue;
+        };
+        if (0..3).any(|a| lo[a] <= -l || hi[a] >= l) {
+            continue;
+        }
+        let (lo, hi) = scan(model, inputs, lo, hi).unwrap_or((lo, hi));
+        let pad = (0..3).map(|a| hi[a] - lo[a]).fold(0.0f64, f64::max) * 0.05;
+        return Some([
+            lo[0] - pad,
+            lo[1] - pad,
+            lo[2] - pad,
+            hi[0] + pad,
+            hi[1] + pad,
+            hi[2] + pad,
+        ]);
+    }
+    None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn box_forms() {
+        assert_eq!(parse_box("2").unwrap(), [-2.0, -2.0, -2.0, 2.0, 2.0, 2.0]);
+        assert_eq!(
+            parse_box("-1,3").unwrap(),
+            [-1.0, -1.0, -1.0, 3.0, 3.0, 3.0]
+        );
+        assert_eq!(
+            parse_box("1,2,-3").unwrap(),
+            [-1.0, -2.0, -3.0, 1.0, 2.0, 3.0]
+        );
+        assert_eq!(
+            parse_box("0,0,0,1,2,3").unwrap(),
+            [0.0, 0.0, 0.0, 1.0, 2.0, 3.0]
+        );
+        assert!(parse_box("1,2,3,4").is_err());
+        assert!(parse_box("1,0").is_err());
+        assert!(parse_box("x").is_err());
+        let b = parse_box("0,0,0,1,2,4").unwrap();
+        assert_eq!(parse_grid("4", &b).unwrap(), Resolution::CellSize(0.25));
+        assert_eq!(
+            parse_grid("1000", &b).unwrap(),
+            Resolution::CellSize(1.0 / 250.0)
+        );
+        assert_eq!(parse_grid("2,4,8", &b).unwrap(), Resolution::CellSize(0.5));
+    }
+
+    #[test]
+    fn detects_a_small_sphere() {
+        let m = Model::compile(
+            "my_model(x[3], a[1]) { my_model = 0.01 - ((x[1]-3)^2 + x[2]^2 + x[3]^2); }",
+        )
+        .unwrap();
+        let b = detect(&m, &Inputs::default()).unwrap();
+        assert!(
+            b[0] < 2.9 && b[0] > 2.8 && b[3] > 3.1 && b[3] < 3.2,
+            "{b:?}"
+        );
+        assert!(b[1] < -0.1 && b[1] > -0.2, "{b:?}");
+        let half = Model::compile("my_model(x[3], a[1]) { my_model = x[1]; }").unwrap();
+        assert_eq!(detect(&half, &Inputs::default()), None);
+    }
+}

@@ -1,0 +1,1249 @@
+//! The polygonizer: closed, outward-oriented meshes of a model's solid `f ≥ 0` in a box.
+//!
+//! ## Lattice
+//! The box is cut into cubic-ish cells, `2^depth` along its longest side; the field is sampled
+//! at cell **centres**. One virtual layer of samples lies *on* the box faces and counts as
+//! outside, so that where the solid reaches the box the surface closes on the box faces (cap
+//! vertices lie exactly on the faces). NaN counts as outside; a sample is inside iff `f ≥ 0`.
+//!
+//! ## Octree and bricks
+//! An octree over the cells descends from the whole box; each node's box (grown by one cell,
+//! so that it covers the edges to its neighbours' samples) is evaluated with interval
+//! arithmetic on the node's tape. A node strictly inside (`f > 0`) or outside (`f < 0` or NaN)
+//! is pruned; otherwise the tape is shortened for the node ([`SimplifyMode::Sign`]: the sign
+//! of `f` and its gradient on the surface are kept) and its children are visited in parallel
+//! (rayon). Nodes of `BRICK³` cells are evaluated in batches ([`BatchEval`]) on their own
+//! tape. Every lattice sample thus has one canonical sign: its brick's, or its pruned node's.
+//!
+//! ## Extraction
+//! Marching-cubes cubes join 8 neighbouring samples. A cube is handled by exactly one brick
+//! (the first evaluated brick among its corners' bricks, else the first inside brick on the
+//! box boundary), in parallel. Crossing edges get a vertex: on the box face for a virtual end,
+//! otherwise found by Illinois regula falsi on the edge with the brick's tape (`Watertight`,
+//! `DualContouring`) or by linear interpolation of the samples (`MarchingCubes`). The cases
+//! come from one face rule ([`table`]), so cubes that share a face agree and the mesh is closed.
+//! - [`Method::Watertight`]: the marching-cubes polygons, vertices shared by edge.
+//! - [`Method::DualContouring`]: one vertex per polygon (component) per cube, placed by a QEF
+//!   of its crossings and gradient normals (sharp features), one quad per crossing edge: the
+//!   dual of the marching-cubes mesh, hence a closed 2-manifold as well.
+//! - [`Method::MarchingCubes`]: the classic baseline: uniform grid, no pruning, no
+//!   simplification, linear interpolation, normals from the triangles.
+
+pub mod bounds;
+mod qef;
+pub mod table;
+
+use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::Arc;
+
+use frep_core::eval::batch::BatchEval;
+use frep_core::eval::grad::GradEval;
+use frep_core::eval::interval::{Interval, IntervalEval};
+use frep_core::eval::Inputs;
+use frep_core::simplify::{simplify, SimplifyMode};
+use frep_core::{Model, Tape};
+
+use crate::Mesh;
+use table::{cases, edge_between, edge_corners};
+
+/// How the surface is extracted.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Method {
+    /// Dual contouring with QEF vertex placement (sharp features), a closed 2-manifold.
+    DualContouring,
+    /// Marching cubes on the pruned octree: closed, consistently oriented 2-manifold.
+    #[default]
+    Watertight,
+    /// Classic marching cubes on a uniform grid (the baseline): no pruning, linear
+    /// interpolation.
+    MarchingCubes,
+}
+
+/// The size of the cells.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Resolution {
+    /// `2^depth` cells along the longest side of the box.
+    Depth(u8),
+    /// Cells of (at most) this size.
+    CellSize(f64),
+}
+
+/// Explicit limits on the work a request may ask for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Limits {
+    /// Largest octree depth (`2^depth` cells along the longest side).
+    pub max_depth: u8,
+    /// Largest number of output triangles.
+    pub max_triangles: usize,
+}
+
+impl Default for Limits {
+    fn default() -> Self {
+        Limits {
+            max_depth: 12,
+            max_triangles: 50_000_000,
+        }
+    }
+}
+
+/// What to polygonize and how.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MeshSettings {
+    /// The box `x0, y0, z0, x1, y1, z1`.
+    pub bounds: [f64; 6],
+    /// Cell size.
+    pub resolution: Resolution,
+    /// Extraction method.
+    pub method: Method,
+    /// Error-bounded simplification after meshing, the bound as a fraction of the cell size
+    /// (e.g. 0.1); needs the `export` feature (meshopt). `None`: off.
+    pub simplify: Option<f64>,
+    /// Per-vertex colours from the attributes `s[1..3]` (when the model declares `s`).
+    pub colors: bool,
+    /// Parameters `a[]` and extra coordinates.
+    pub inputs: Inputs,
+    /// Limits.
+    pub limits: Limits,
+    /// Worker threads (`None`: rayon's global pool).
+    pub threads: Option<usize>,
+}
+
+impl Default for MeshSettings {
+    fn default() -> Self {
+        MeshSettings {
+            bounds: [-1.0, -1.0, -1.0, 1.0, 1.0, 1.0],
+            resolution: Resolution::Depth(6),
+            method: Method::default(),
+            simplify: None,
+            colors: true,
+            inputs: Inputs::default(),
+            limits: Limits::default(),
+            threads: None,
+        }
+    }
+}
+
+/// Why polygonizing failed.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum MeshError {
+    /// The [`CancelToken`] was cancelled.
+    #[error("cancelled")]
+    Cancelled,
+    /// The box is empty, inverted or not finite.
+    #[error("invalid bounding box {0:?}")]
+    InvalidBounds([f64; 6]),
+    /// The resolution asks for more than [`Limits::max_depth`] (or is not positive).
+    #[error("resolution needs depth {depth}, the limit is {max}")]
+    TooDeep {
+        /// Depth asked for.
+        depth: u32,
+        /// The limit.
+        max: u8,
+    },
+    /// More triangles than [`Limits::max_triangles`].
+    #[error("more than {0} triangles")]
+    TooManyTriangles(usize),
+    /// The settings ask for something this build cannot do.
+    #[error("{0}")]
+    Unsupported(&'static str),
+}
+
+/// Progress of a run, readable from another thread: `done` of `estimated` work units.
+#[derive(Debug, Default)]
+pub struct Progress {
+    done: AtomicU64,
+    estimated: AtomicU64,
+}
+
+impl Progress {
+    /// A fresh counter.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Units done so far.
+    pub fn done(&self) -> u64 {
+        self.done.load(Ordering::Relaxed)
+    }
+
+    /// Current estimate of the total (grows or shrinks as the octree is explored).
+    pub fn estimated(&self) -> u64 {
+        self.estimated.load(Ordering::Relaxed)
+    }
+
+    /// `done / estimated` in `[0, 1]` (0 before the start).
+    pub fn fraction(&self) -> f64 {
+        let e = self.estimated();
+        if e == 0 {
+            0.0
+        } else {
+            (self.done() as f64 / e as f64).min(1.0)
+        }
+    }
+
+    fn add(&self, n: u64) {
+        self.done.fetch_add(n, Ordering::Relaxed);
+    }
+}
+
+/// Cancels a run from another thread (clones share the flag).
+#[derive(Clone, Debug, Default)]
+pub struct CancelToken(Arc<AtomicBool>);
+
+impl CancelToken {
+    /// A token not yet cancelled.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Asks the run to stop; it returns [`MeshError::Cancelled`] soon after.
+    pub fn cancel(&self) {
+        self.0.store(true, Ordering::Relaxed);
+    }
+
+    /// Whether [`CancelToken::cancel`] was called.
+    pub fn is_cancelled(&self) -> bool {
+        self.0.load(Ordering::Relaxed)
+    }
+}
+
+/// Side of the finest bricks evaluated in one batch (in cells), at most.
+const BRICK: i32 = 8;
+/// Largest number of bricks per axis (the brick map is dense).
+const MAX_BRICKS: i32 = 128;
+/// Vertices stay this fraction of an edge away from its ends (no coincident vertices).
+const EDGE_MARGIN: f64 = 0.01;
+/// Regula falsi steps on each crossing edge.
+const ROOT_STEPS: usize = 5;
+
+/// The sampling lattice.
+#[derive(Clone, Debug)]
+struct Grid {
+    lo: [f64; 3],
+    hi: [f64; 3],
+    /// Samples (cells) per axis.
+    n: [i32; 3],
+    /// Cell size per axis.
+    h: [f64; 3],
+    /// The octree covers `size³` cells.
+    size: i32,
+    /// Brick side in cells.
+    brick: i32,
+    /// Bricks per axis (`size / brick`).
+    nb: i32,
+}
+
+impl Grid {
+    fn new(s: &MeshSettings) -> Result<Grid, MeshError> {
+        let b = s.bounds;
+        let lo = [b[0], b[1], b[2]];
+        let hi = [b[3], b[4], b[5]];
+        if (0..3).any(|k| !(lo[k].is_finite() && hi[k].is_finite() && hi[k] > lo[k])) {
+            return Err(MeshError::InvalidBounds(b));
+        }
+        let ext = (0..3).map(|k| hi[k] - lo[k]).fold(0.0f64, f64::max);
+        let cell = match s.resolution {
+            Resolution::Depth(d) => {
+                if d > s.limits.max_depth {
+                    return Err(MeshError::TooDeep {
+                        depth: d as u32,
+                        max: s.limits.max_depth,
+                    });
+                }
+                ext / (1u64 << d) as f64
+            }
+            Resolution::CellSize(c) => {
+                if !(c > 0.0 && c.is_finite()) {
+                    return Err(MeshError::TooDeep {
+                        depth: u32::MAX,
+                        max: s.limits.max_depth,
+                    });
+                }
+                c
+            }
+        };
+        let n = [0, 1, 2].map(|k| (((hi[k] - lo[k]) / cell) * (1.0 - 1e-12)).ceil().max(1.0));
+        let nmax = n.iter().fold(1.0f64, |a, &b| a.max(b));
+        let depth = nmax.log2().ceil().max(0.0) as u32;
+        if depth > s.limits.max_depth as u32 {
+            return Err(MeshError::TooDeep {
+                depth,
+                max: s.limits.max_depth,
+            });
+        }
+        let n = n.map(|v| v as i32);
+        let size = 1i32 << depth;
+        let brick = BRICK.min(size).max(size / MAX_BRICKS);
+        Ok(Grid {
+            lo,
+            hi,
+            n,
+            h: [0, 1, 2].map(|k| (hi[k] - lo[k]) / n[k] as f64),
+            size,
+            brick,
+            nb: size / brick,
+        })
+    }
+
+    /// Coordinate of sample `i` along axis `a`; `-1` and `n` are the box faces.
+    #[inline]
+    fn coord(&self, a: usize, i: i32) -> f64 {
+        if i < 0 {
+            self.lo[a]
+        } else if i >= self.n[a] {
+            self.hi[a]
+        } else {
+            self.lo[a] + (i as f64 + 0.5) * self.h[a]
+        }
+    }
+
+    #[inline]
+    fn point(&self, p: [i32; 3]) -> [f64; 3] {
+        [
+            self.coord(0, p[0]),
+            self.coord(1, p[1]),
+            self.coord(2, p[2]),
+        ]
+    }
+
+    #[inline]
+    fn is_virtual(&self, p: [i32; 3]) -> bool {
+        (0..3).any(|a| p[a] < 0 || p[a] >= self.n[a])
+    }
+
+    /// The interval box of a node of `s³` cells at `o`, grown by one cell, clipped to the box.
+    fn node_box(&self, o: [i32; 3], s: i32) -> [Interval; 3] {
+        [0, 1, 2].map(|a| {
+            let lo = self.lo[a] + (o[a] as f64 - 0.5) * self.h[a];
+            let hi = self.lo[a] + ((o[a] + s) as f64 + 0.5) * self.h[a];
+            Interval::new(lo.max(self.lo[a]), hi.min(self.hi[a]))
+        })
+    }
+
+    #[inline]
+    fn brick_id(&self, p: [i32; 3]) -> usize {
+        let b = p.map(|c| (c / self.brick) as usize);
+        let nb = self.nb as usize;
+        b[0] + nb * (b[1] + nb * b[2])
+    }
+
+    fn is_boundary_brick(&self, id: usize) -> bool {
+        let nb = self.nb as usize;
+        let b = [id % nb, id / nb % nb, id / (nb * nb)];
+        (0..3).any(|a| b[a] == 0 || (b[a] as i32 + 1) * self.brick >= self.n[a])
+    }
+}
+
+const OFFS: [[i32; 3]; 8] = [
+    [0, 0, 0],
+    [1, 0, 0],
+    [0, 1, 0],
+    [1, 1, 0],
+    [0, 0, 1],
+    [1, 0, 1],
+    [0, 1, 1],
+    [1, 1, 1],
+];
+
+fn add(p: [i32; 3], q: [i32; 3]) -> [i32; 3] {
+    [p[0] + q[0], p[1] + q[1], p[2] + q[2]]
+}
+
+/// 20 bits per coordinate (shifted by one so that the virtual layer `-1` fits).
+fn point_key(p: [i32; 3]) -> u64 {
+    ((p[0] + 1) as u64) | ((p[1] + 1) as u64) << 20 | ((p[2] + 1) as u64) << 40
+}
+
+/// An evaluated brick.
+struct Brick {
+    origin: [i32; 3],
+    tape: Arc<Tape>,
+    /// Inside bits of its `brick³` samples.
+    bits: Vec<u64>,
+    /// Sample values (the uniform baseline only).
+    values: Option<Vec<f32>>,
+}
+
+enum Leaf {
+    Pruned {
+        origin: [i32; 3],
+        size: i32,
+        inside: bool,
+    },
+    Brick(Brick),
+}
+
+struct Ctx<'a> {
+    grid: Grid,
+    method: Method,
+    inputs: &'a Inputs,
+    progress: &'a Progress,
+    cancel: &'a CancelToken,
+    /// Number of colour channels to evaluate (0: none).
+    colors: usize,
+}
+
+#[cfg(feature = "parallel")]
+fn par_map<T: Sync, R: Send>(v: &[T], f: impl Fn(&T) -> R + Sync + Send) -> Vec<R> {
+    use rayon::prelude::*;
+    v.par_iter().map(f).collect()
+}
+
+#[cfg(not(feature = "parallel"))]
+fn par_map<T: Sync, R: Send>(v: &[T], f: impl Fn(&T) -> R + Sync + Send) -> Vec<R> {
+    v.iter().map(f).collect()
+}
+
+/// A fast hasher for integer keys.
+#[derive(Default, Clone, Copy)]
+struct KeyHasher(u64);
+
+impl Hasher for KeyHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.write_u64(b as u64);
+        }
+    }
+    fn write_u64(&mut self, v: u64) {
+        self.0 = (self.0 ^ v)
+            .wrapping_mul(0x9E37_79B9_7F4A_7C15)
+            .rotate_left(29);
+    }
+}
+
+type KeyMap<V> = HashMap<u64, V, BuildHasherDefault<KeyHasher>>;
+
+enum Class {
+    Inside,
+    Outside,
+    Go(Arc<Tape>),
+}
+
+impl Ctx<'_> {
+    fn check(&self) -> Result<(), MeshError> {
+        if self.cancel.is_cancelled() {
+            Err(MeshError::Cancelled)
+        } else {
+            Ok(())
+        }
+    }
+
+    fn bricks_in(&self, s: i32) -> u64 {
+        let k = (s / self.grid.brick).max(1) as u64;
+        k * k * k
+    }
+
+    fn classify(
+        &self,
+        ev: &mut Option<IntervalEval>,
+        tape: &Arc<Tape>,
+        o: [i32; 3],
+        s: i32,
+    ) -> Class {
+        if (0..3).any(|a| o[a] >= self.grid.n[a]) {
+            return Class::Outside;
+        }
+        let Some(ev) = ev else {
+            return Class::Go(tape.clone());
+        };
+        let [x, y, z] = self.grid.node_box(o, s);
+        let iv = ev.eval(x, y, z, self.inputs);
+        if iv.is_positive() {
+            Class::Inside
+        } else if iv.is_outside() {
+            Class::Outside
+        } else {
+            let t = simplify(tape, ev.choices(), SimplifyMode::Sign);
+            if t.len() < tape.len() {
+                Class::Go(Arc::new(t))
+            } else {
+                Class::Go(tape.clone())
+            }
+        }
+    }
+
+    fn descend(&self, tape: Arc<Tape>, o: [i32; 3], s: i32) -> Result<Vec<Leaf>, MeshError> {
+        self.check()?;
+        if s <= self.grid.brick {
+            return Ok(vec![Leaf::Brick(self.eval_brick(tape, o))]);
+        }
+        let half = s / 2;
+        let mut ev = (self.method != Method::MarchingCubes).then(|| IntervalEval::new(&tape));
+        let mut leaves = Vec::new();
+        let mut todo = Vec::new();
+        for off in OFFS {
+            let co = [
+                o[0] + off[0] * half,
+                o[1] + off[1] * half,
+                o[2] + off[2] * half,
+            ];
+            match self.classify(&mut ev, &tape, co, half) {
+                Class::Go(t) => todo.push((t, co)),
+                c => {
+                    self.progress.add(self.bricks_in(half));
+                    leaves.push(Leaf::Pruned {
+                        origin: co,
+                        size: half,
+                        inside: matches!(c, Class::Inside),
+                    });
+                }
+            }
+        }
+        for r in par_map(&todo, |(t, co)| self.descend(t.clone(), *co, half)) {
+            leaves.extend(r?);
+        }
+        Ok(leaves)
+    }
+
+    fn eval_brick(&self, tape: Arc<Tape>, o: [i32; 3]) -> Brick {
+        let b = self.grid.brick;
+        let m = (b * b * b) as usize;
+        let (mut xs, mut ys, mut zs) = (
+            Vec::with_capacity(m),
+            Vec::with_capacity(m),
+            Vec::with_capacity(m),
+        );
+        for k in 0..b {
+            for j in 0..b {
+                for i in 0..b {
+                    let p = self.grid.point([o[0] + i, o[1] + j, o[2] + k]);
+                    xs.push(p[0]);
+                    ys.push(p[1]);
+                    zs.push(p[2]);
+                }
+            }
+        }
+        let mut out = vec![0.0; m];
+        BatchEval::new(&tape).eval(&xs, &ys, &zs, self.inputs, &mut out);
+        let mut bits = vec![0u64; m.div_ceil(64)];
+        let mut l = 0;
+        for k in 0..b {
+            for j in 0..b {
+                for i in 0..b {
+                    let p = [o[0] + i, o[1] + j, o[2] + k];
+                    if out[l] >= 0.0 && !self.grid.is_virtual(p) {
+                        bits[l / 64] |= 1 << (l % 64);
+                    }
+                    l += 1;
+                }
+            }
+        }
+        let values = (self.method == Method::MarchingCubes).then(|| {
+            out.iter()
+                .map(|&v| {
+                    // Keep the sign through the narrowing.
+                    let f = v as f32;
+                    if f == 0.0 && v < 0.0 {
+                        -f32::MIN_POSITIVE
+                    } else {
+                        f
+                    }
+                })
+                .collect()
+        });
+        self.progress.add(1);
+        Brick {
+            origin: o,
+            tape,
+            bits,
+            values,
+        }
+    }
+}
+
+/// Canonical signs of every sample: the brick map.
+struct Lattice<'a> {
+    grid: &'a Grid,
+    /// Per brick: 0 outside, 1 inside, `2 + i` evaluated brick `i`.
+    map: Vec<u32>,
+    bricks: Vec<Brick>,
+}
+
+const OUTSIDE: u32 = 0;
+const INSIDE: u32 = 1;
+
+impl Lattice<'_> {
+    #[inline]
+    fn local(&self, p: [i32; 3]) -> usize {
+        let b = self.grid.brick;
+        let l = p.map(|c| c % b);
+        (l[0] + b * (l[1] + b * l[2])) as usize
+    }
+
+    #[inline]
+    fn inside(&self, p: [i32; 3]) -> bool {
+        if self.grid.is_virtual(p) {
+            return false;
+        }
+        match self.map[self.grid.brick_id(p)] {
+            OUTSIDE => false,
+            INSIDE => true,
+            k => {
+                let l = self.local(p);
+                self.bricks[(k - 2) as usize].bits[l / 64] >> (l % 64) & 1 == 1
+            }
+        }
+    }
+
+    /// Sample value (uniform baseline: every real sample is in an evaluated brick).
+    fn value(&self, p: [i32; 3]) -> f64 {
+        match self.map[self.grid.brick_id(p)] {
+            OUTSIDE => -1.0,
+            INSIDE => 1.0,
+            k => self.bricks[(k - 2) as usize]
+                .values
+                .as_ref()
+                .map_or(0.0, |v| v[self.local(p)] as f64),
+        }
+    }
+
+    fn case_at(&self, q: [i32; 3]) -> usize {
+        let mut mask = 0;
+        for (c, off) in OFFS.iter().enumerate() {
+            if self.inside(add(q, *off)) {
+                mask |= 1 << c;
+            }
+        }
+        mask
+    }
+
+    /// The brick that handles cube `q`.
+    fn owner(&self, q: [i32; 3]) -> Option<usize> {
+        let mut first = None;
+        for off in OFFS {
+            let p = add(q, off);
+            if self.grid.is_virtual(p) {
+                continue;
+            }
+            let id = self.grid.brick_id(p);
+            match self.map[id] {
+                OUTSIDE => {}
+                INSIDE => {
+                    if first.is_none() && self.grid.is_boundary_brick(id) {
+                        first = Some(id);
+                    }
+                }
+                _ => return Some(id),
+            }
+        }
+        first
+    }
+}
+
+/// What one brick contributes.
+#[derive(Default)]
+struct BrickOut {
+    keys: Vec<u64>,
+    positions: Vec<[f32; 3]>,
+    normals: Vec<[f32; 3]>,
+    colors: Vec<[f32; 3]>,
+    triangles: Vec<[u64; 3]>,
+    /// Dual contouring: quads of vertex keys, counter-clockwise from outside.
+    quads: Vec<[u64; 4]>,
+}
+
+struct EdgeRec {
+    /// Lower end.
+    p: [i32; 3],
+    axis: usize,
+    /// Whether the lower end is the inside one.
+    inside_low: bool,
+}
+
+fn norm(v: [f64; 3]) -> [f64; 3] {
+    let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    if l > 0.0 && l.is_finite() {
+        v.map(|c| c / l)
+    } else {
+        [0.0; 3]
+    }
+}
+
+fn dist2(a: [f64; 3], b: [f64; 3]) -> f64 {
+    (0..3).map(|k| (a[k] - b[k]) * (a[k] - b[k])).sum()
+}
+
+impl Ctx<'_> {
+    /// Finds the crossings of `edges` (positions and outward unit normals).
+    fn crossings(
+        &self,
+        lat: &Lattice,
+        brick: Option<&Brick>,
+        edges: &[EdgeRec],
+    ) -> (Vec<[f64; 3]>, Vec<[f64; 3]>) {
+        let g = &self.grid;
+        let mut pos = vec![[0.0; 3]; edges.len()];
+        let mut nrm = vec![[0.0; 3]; edges.len()];
+        // Real edges to refine: (edge index, inside point, outside point).
+        let mut todo: Vec<(usize, [f64; 3], [f64; 3])> = Vec::new();
+        for (i, e) in edges.iter().enumerate() {
+            let mut hi = e.p;
+            hi[e.axis] += 1;
+            let (pin, pout) = if e.inside_low { (e.p, hi) } else { (hi, e.p) };
+            if g.is_virtual(pout) {
+                pos[i] = g.point(pout);
+                let mut n = [0.0; 3];
+                n[e.axis] = if e.inside_low { 1.0 } else { -1.0 };
+                nrm[i] = n;
+                continue;
+            }
+            let (a, b) = (g.point(pin), g.point(pout));
+            if self.method == Method::MarchingCubes || brick.is_none() {
+                let (fa, fb) = (lat.value(pin), lat.value(pout));
+                let t = if fa >= 0.0 && fb < 0.0 {
+                    fa / (fa - fb)
+                } else {
+                    0.5
+                };
+                let t = t.clamp(EDGE_MARGIN, 1.0 - EDGE_MARGIN);
+                pos[i] = [0, 1, 2].map(|k| a[k] + t * (b[k] - a[k]));
+            } else {
+                todo.push((i, a, b));
+            }
+        }
+        let Some(brick) = brick.filter(|_| !todo.is_empty()) else {
+            return (pos, nrm);
+        };
+        let n = todo.len();
+        let mut be = BatchEval::new(&brick.tape);
+        let (mut xs, mut ys, mut zs) = (vec![0.0; 2 * n], vec![0.0; 2 * n], vec![0.0; 2 * n]);
+        for (j, (_, a, b)) in todo.iter().enumerate() {
+            (xs[j], ys[j], zs[j]) = (a[0], a[1], a[2]);
+            (xs[n + j], ys[n + j], zs[n + j]) = (b[0], b[1], b[2]);
+        }
+        let mut f = vec![0.0; 2 * n];
+        be.eval(&xs, &ys, &zs, self.inputs, &mut f);
+        // Brackets: t0 inside (f0 ≥ 0), t1 outside; side of the last move for Illinois.
+        let mut st: Vec<(f64, f64, f64, f64, i8)> =
+            (0..n).map(|j| (0.0, f[j], 1.0, f[n + j], 0)).collect();
+        let next_t = |s: &(f64, f64, f64, f64, i8)| {
+            let (t0, f0, t1, f1, _) = *s;
+            if f0.is_finite() && f1.is_finite() && f0 >= 0.0 && f1 < 0.0 {
+                let t = t0 + (t1 - t0) * f0 / (f0 - f1);
+                if t > t0 && t < t1 {
+                    return t;
+                }
+            }
+            0.5 * (t0 + t1)
+        };
+        xs.truncate(n);
+        ys.truncate(n);
+        zs.truncate(n);
+        f.truncate(n);
+        let mut ts = vec![0.0; n];
+        for _ in 0..ROOT_STEPS {
+            for (j, (_, a, b)) in todo.iter().enumerate() {
+                let t = next_t(&st[j]);
+                ts[j] = t;
+                xs[j] = a[0] + t * (b[0] - a[0]);
+                ys[j] = a[1] + t * (b[1] - a[1]);
+                zs[j] = a[2] + t * (b[2] - a[2]);
+            }
+            be.eval(&xs, &ys, &zs, self.inputs, &mut f);
+            for j in 0..n {
+                let s = &mut st[j];
+                if f[j] >= 0.0 {
+                    *s = (ts[j], f[j], s.2, if s.4 == 1 { 0.5 * s.3 } else { s.3 }, 1);
+                } else {
+                    let f1 = if f[j].is_nan() { s.3 } else { f[j] };
+                    *s = (s.0, if s.4 == -1 { 0.5 * s.1 } else { s.1 }, ts[j], f1, -1);
+                }
+            }
+        }
+        let mut ge = GradEval::new(&brick.tape);
+        for (j, (i, a, b)) in todo.iter().enumerate() {
+            let t = next_t(&st[j]).clamp(EDGE_MARGIN, 1.0 - EDGE_MARGIN);
+            let p = [0, 1, 2].map(|k| a[k] + t * (b[k] - a[k]));
+            pos[*i] = p;
+            let gr = ge.eval(p[0], p[1], p[2], self.inputs);
+            nrm[*i] = norm([-gr.dx, -gr.dy, -gr.dz]);
+        }
+        (pos, nrm)
+    }
+
+    fn colors_at(&self, brick: Option<&Brick>, pts: &[[f64; 3]]) -> Vec<[f32; 3]> {
+        let Some(brick) = brick.filter(|_| self.colors > 0 && !pts.is_empty()) else {
+            return Vec::new();
+        };
+        let mut be = BatchEval::new(&brick.tape);
+        let xs: Vec<f64> = pts.iter().map(|p| p[0]).collect();
+        let ys: Vec<f64> = pts.iter().map(|p| p[1]).collect();
+        let zs: Vec<f64> = pts.iter().map(|p| p[2]).collect();
+        let mut outs = vec![Vec::new(); brick.tape.outputs.len()];
+        be.eval_outputs(&xs, &ys, &zs, self.inputs, &mut outs);
+        (0..pts.len())
+            .map(|i| {
+                [0, 1, 2].map(|c| {
+                    let k = (c + 1).min(self.colors);
+                    let v = outs[k][i] as f32;
+                    if v.is_finite() {
+                        v.clamp(0.0, 1.0)
+                    } else {
+                        0.0
+                    }
+                })
+            })
+            .collect()
+    }
+
+    /// Extracts the cubes owned by brick `id` (evaluated brick `eval`, if any).
+    fn extract(
+        &self,
+        lat: &Lattice,
+        id: usize,
+        eval: Option<usize>,
+    ) -> Result<BrickOut, MeshError> {
+        self.check()?;
+        let g = &self.grid;
+        let b = g.brick;
+        let nb = g.nb as usize;
+        let o = [id % nb, id / nb % nb, id / (nb * nb)].map(|c| c as i32 * b);
+        let brick = eval.map(|k| &lat.bricks[k]);
+        // Signs of samples o-1 ..= o+b.
+        let e = (b + 2) as usize;
+        let mut sign = vec![false; e * e * e];
+        for k in -1..=b {
+            for j in -1..=b {
+                for i in -1..=b {
+                    let l = (i + 1) as usize + e * ((j + 1) as usize + e * (k + 1) as usize);
+                    sign[l] = lat.inside([o[0] + i, o[1] + j, o[2] + k]);
+                }
+            }
+        }
+        let table = cases();
+        let mut edge_index: KeyMap<u32> = KeyMap::default();
+        let mut edges: Vec<EdgeRec> = Vec::new();
+        let mut edge_keys: Vec<u64> = Vec::new();
+        // Cubes with surface: (min corner, case, local edge indices).
+        let mut cubes: Vec<([i32; 3], usize, [u32; 12])> = Vec::new();
+        let upper = [0, 1, 2].map(|a| (b - 1).min(g.n[a] - 1 - o[a]));
+        for k in -1..=upper[2] {
+            for j in -1..=upper[1] {
+                for i in -1..=upper[0] {
+                    let q = [o[0] + i, o[1] + j, o[2] + k];
+                    if q.iter().any(|&c| c < -1) {
+                        continue;
+                    }
+                    let mut mask = 0usize;
+                    for (c, off) in OFFS.iter().enumerate() {
+                        let l = (i + 1 + off[0]) as usize
+                            + e * ((j + 1 + off[1]) as usize + e * (k + 1 + off[2]) as usize);
+                        mask |= (sign[l] as usize) << c;
+                    }
+                    if mask == 0 || mask == 255 {
+                        continue;
+                    }
+                    let border = [i, j, k].iter().any(|&c| c < 0 || c >= b - 1);
+                    if border && lat.owner(q) != Some(id) {
+                        continue;
+                    }
+                    let case = &table[mask];
+                    let mut local = [u32::MAX; 12];
+                    for (ei, comp) in case.component.iter().enumerate() {
+                        if *comp == 255 {
+                            continue;
+                        }
+                        let (c0, c1) = edge_corners(ei as u8);
+                        let p = add(q, OFFS[c0]);
+                        let axis = (c0 ^ c1).trailing_zeros() as usize;
+                        let key = point_key(p) << 2 | axis as u64;
+                        local[ei] = *edge_index.entry(key).or_insert_with(|| {
+                            edges.push(EdgeRec {
+                                p,
+                                axis,
+                                inside_low: mask >> c0 & 1 == 1,
+                            });
+                            edge_keys.push(key);
+                            (edges.len() - 1) as u32
+                        });
+                    }
+                    cubes.push((q, mask, local));
+                }
+            }
+        }
+        let (pos, nrm) = self.crossings(lat, brick, &edges);
+        let mut out = BrickOut::default();
+        if self.method != Method::DualContouring {
+            out.colors = self.colors_at(brick, &pos);
+            out.keys = edge_keys.clone();
+            out.positions = pos.iter().map(|p| p.map(|c| c as f32)).collect();
+            out.normals = nrm.iter().map(|p| p.map(|c| c as f32)).collect();
+            for (q, mask, local) in &cubes {
+                let case = &table[*mask];
+                for k in 0..case.polygons() {
+                    let poly = case.polygon(k);
+                    let key = |e: u8| edge_keys[local[e as usize] as usize];
+                    let p = |e: u8| pos[local[e as usize] as usize];
+                    let n = poly.len();
+                    if n == 3 {
+                        out.triangles
+                            .push([key(poly[0]), key(poly[1]), key(poly[2])]);
+                        continue;
+                    }
+                    // A fan whose diagonals avoid the cube's faces: a diagonal on a face
+                    // would be a diagonal of the neighbouring cube too (a non-manifold edge).
+                    let fan_ok = |apex: usize| {
+                        (2..n - 1).all(|j| !table::share_face(poly[apex], poly[(apex + j) % n]))
+                    };
+                    let mut apexes: Vec<usize> = (0..n).filter(|&a| fan_ok(a)).collect();
+                    if n == 4 && apexes.len() == 2 {
+                        // The shorter diagonal.
+                        if dist2(p(poly[1]), p(poly[3])) < dist2(p(poly[0]), p(poly[2])) {
+                            apexes.swap(0, 1);
+                        }
+                    }
+                    if let Some(&a) = apexes.first() {
+                        for j in 1..n - 1 {
+                            out.triangles.push([
+                                key(poly[a]),
+                                key(poly[(a + j) % n]),
+                                key(poly[(a + j + 1) % n]),
+                            ]);
+                        }
+                        continue;
+                    }
+                    // No such fan: a centre vertex.
+                    let mut c = [0.0; 3];
+                    let mut nc = [0.0; 3];
+                    for &e in poly {
+                        let v = local[e as usize] as usize;
+                        for d in 0..3 {
+                            c[d] += pos[v][d] / n as f64;
+                            nc[d] += nrm[v][d];
+                        }
+                    }
+                    let ck = 1 << 63 | point_key(*q) << 2 | k as u64;
+                    out.keys.push(ck);
+                    out.positions.push(c.map(|x| x as f32));
+                    out.normals.push(norm(nc).map(|x| x as f32));
+                    if !out.colors.is_empty() {
+                        let col = out.colors[local[poly[0] as usize] as usize];
+                        out.colors.push(col);
+                    }
+                    for j in 0..n {
+                        out.triangles
+                            .push([ck, key(poly[j]), key(poly[(j + 1) % n])]);
+                    }
+                }
+            }
+            return Ok(out);
+        }
+        // Dual contouring: one vertex per polygon, one quad per crossing lower edge.
+        let mut pts = Vec::new();
+        let mut ns = Vec::new();
+        let mut dc_pos = Vec::new();
+        for (q, mask, local) in &cubes {
+            let case = &table[*mask];
+            let lo = g.point(*q);
+            let hi = g.point(add(*q, [1, 1, 1]));
+            for k in 0..case.polygons() {
+                pts.clear();
+                ns.clear();
+                let mut avg = [0.0; 3];
+                for &ei in case.polygon(k) {
+                    let v = local[ei as usize] as usize;
+                    pts.push(pos[v]);
+                    ns.push(nrm[v]);
+                    for c in 0..3 {
+                        avg[c] += nrm[v][c];
+                    }
+                }
+                let x = qef::solve(&pts, &ns, lo, hi);
+                dc_pos.push(x);
+                out.keys.push(point_key(*q) << 2 | k as u64);
+                out.positions.push(x.map(|c| c as f32));
+                out.normals.push(norm(avg).map(|c| c as f32));
+            }
+            for axis in 0..3 {
+                let c1 = 1usize << axis;
+                if case.component[edge_between(0, c1) as usize] == 255 {
+                    continue;
+                }
+                let (bx, cx) = ((axis + 1) % 3, (axis + 2) % 3);
+                let mut eb = [0; 3];
+                eb[bx] = 1;
+                let mut ec = [0; 3];
+                ec[cx] = 1;
+                let mut quad = [0u64; 4];
+                for (slot, d) in [[0, 0, 0], eb, add(eb, ec), ec].iter().enumerate() {
+                    let qn = [q[0] - d[0], q[1] - d[1], q[2] - d[2]];
+                    let m = if slot == 0 { *mask } else { lat.case_at(qn) };
+                    let lo_c = (d[0] | d[1] << 1 | d[2] << 2) as usize;
+                    let comp = table[m].component[edge_between(lo_c, lo_c | c1) as usize];
+                    quad[slot] = point_key(qn) << 2 | comp as u64;
+                }
+                if mask & 1 == 0 {
+                    quad.reverse();
+                }
+                out.quads.push(quad);
+            }
+        }
+        out.colors = self.colors_at(brick, &dc_pos);
+        Ok(out)
+    }
+}
+
+/// Polygonizes `model`'s solid in `settings.bounds` (see the module docs).
+pub fn polygonize(
+    model: &Model,
+    settings: &MeshSettings,
+    progress: &Progress,
+    cancel: &CancelToken,
+) -> Result<Mesh, MeshError> {
+    #[cfg(feature = "parallel")]
+    if let Some(t) = settings.threads {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(t.max(1))
+            .build()
+            .map_err(|_| MeshError::Unsupported("cannot start the thread pool"))?;
+        return pool.install(|| run(model, settings, progress, cancel));
+    }
+    run(model, settings, progress, cancel)
+}
+
+fn run(
+    model: &Model,
+    settings: &MeshSettings,
+    progress: &Progress,
+    cancel: &CancelToken,
+) -> Result<Mesh, MeshError> {
+    if settings.simplify.is_some() && !cfg!(feature = "export") {
+        return Err(MeshError::Unsupported(
+            "simplification needs the export feature (meshopt)",
+        ));
+    }
+    let grid = Grid::new(settings)?;
+    let colors = if settings.colors && model.has_attributes {
+        model.s_dim.min(3)
+    } else {
+        0
+    };
+    let tape = Arc::new(if colors > 0 {
+        model.tape_with_attributes()
+    } else {
+        model.tape()
+    });
+    let ctx = Ctx {
+        grid: grid.clone(),
+        method: settings.method,
+        inputs: &settings.inputs,
+        progress,
+        cancel,
+        colors,
+    };
+    let nb = grid.nb as usize;
+    let total = (nb * nb * nb) as u64;
+    progress.done.store(0, Ordering::Relaxed);
+    progress.estimated.store(2 * total, Ordering::Relaxed);
+
+    // Phase 1: the octree.
+    let mut ev = (settings.method != Method::MarchingCubes).then(|| IntervalEval::new(&tape));
+    let leaves = match ctx.classify(&mut ev, &tape, [0; 3], grid.size) {
+        Class::Go(t) => ctx.descend(t, [0; 3], grid.size)?,
+        c => {
+            progress.add(total);
+            vec![Leaf::Pruned {
+                origin: [0; 3],
+                size: grid.size,
+                inside: matches!(c, Class::Inside),
+            }]
+        }
+    };
+    let mut lat = Lattice {
+        grid: &grid,
+        map: vec![OUTSIDE; nb * nb * nb],
+        bricks: Vec::new(),
+    };
+    for leaf in leaves {
+        match leaf {
+            Leaf::Pruned {
+                origin,
+                size,
+                inside,
+            } => {
+                if !inside {
+                    continue;
+                }
+                let s = size / grid.brick;
+                let b0 = origin.map(|c| (c / grid.brick) as usize);
+                for k in 0..s as usize {
+                    for j in 0..s as usize {
+                        for i in 0..s as usize {
+                            lat.map[b0[0] + i + nb * (b0[1] + j + nb * (b0[2] + k))] = INSIDE;
+                        }
+                    }
+                }
+            }
+            Leaf::Brick(b) => {
+                let id = grid.brick_id(b.origin);
+                lat.map[id] = 2 + lat.bricks.len() as u32;
+                lat.bricks.push(b);
+            }
+        }
+    }
+    // Phase 2: extraction by the generating bricks.
+    let mut gen: Vec<(usize, Option<usize>)> = Vec::new();
+    for (id, &m) in lat.map.iter().enumerate() {
+        match m {
+            OUTSIDE => {}
+            INSIDE => {
+                if grid.is_boundary_brick(id) {
+                    gen.push((id, None));
+                }
+            }
+            k => gen.push((id, Some((k - 2) as usize))),
+        }
+    }
+    progress
+        .estimated
+        .store(total + gen.len() as u64, Ordering::Relaxed);
+    progress.done.store(total, Ordering::Relaxed);
+    let outs = par_map(&gen, |&(id, eval)| {
+        let r = ctx.extract(&lat, id, eval);
+        progress.add(1);
+        r
+    });
+    drop(lat);
+    let mut outs = outs.into_iter().collect::<Result<Vec<_>, _>>()?;
+    ctx.check()?;
+
+    // Phase 3: merge.
+    let nv: usize = outs.iter().map(|o| o.keys.len()).sum();
+    let mut index: KeyMap<u32> = KeyMap::with_capacity_and_hasher(nv, Default::default());
+    let mut mesh = Mesh::default();
+    let with_colors = colors > 0;
+    for o in &mut outs {
+        for (v, &key) in o.keys.iter().enumerate() {
+            index.entry(key).or_insert_with(|| {
+                mesh.positions.push(o.positions[v]);
+                mesh.normals.push(o.normals[v]);
+                if with_colors {
+                    mesh.colors
+                        .push(o.colors.get(v).copied().unwrap_or([0.0; 3]));
+                }
+                (mesh.positions.len() - 1) as u32
+            });
+        }
+        o.keys = Vec::new();
+        o.positions = Vec::new();
+        o.normals = Vec::new();
+        o.colors = Vec::new();
+    }
+    let ntri: usize = outs
+        .iter()
+        .map(|o| o.triangles.len() + 2 * o.quads.len())
+        .sum();
+    if ntri > settings.limits.max_triangles {
+        return Err(MeshError::TooManyTriangles(settings.limits.max_triangles));
+    }
+    mesh.triangles.reserve(ntri);
+    let look = |k: &u64| index.get(k).copied();
+    for o in &outs {
+        for t in &o.triangles {
+            if let [Some(a), Some(b), Some(c)] = t.each_ref().map(look) {
+                mesh.triangles.push([a, b, c]);
+            }
+        }
+        for q in &o.quads {
+            let [Some(a), Some(b), Some(c), Some(d)] = q.each_ref().map(look) else {
+                continue;
+            };
+            let p = |i: u32| crate::mesh::to_f64(mesh.positions[i as usize]);
+            let tri_n = |x: u32, y: u32, z: u32| {
+                norm(crate::mesh::cross(
+                    crate::mesh::sub(p(y), p(x)),
+                    crate::mesh::sub(p(z), p(x)),
+                ))
+            };
+            // The diagonal whose two triangles fold least; a zero-area triangle (its normal
+            // is 0) makes a split fold most.
+            let d1 = crate::mesh::dot(tri_n(a, b, c), tri_n(a, c, d));
+            let d2 = crate::mesh::dot(tri_n(a, b, d), tri_n(b, c, d));
+            let flat = |x: u32, y: u32, z: u32| tri_n(x, y, z) == [0.0; 3];
+            let bad1 = flat(a, b, c) || flat(a, c, d);
+            let bad2 = flat(a, b, d) || flat(b, c, d);
+            if (d1 >= d2 && !bad1) || bad2 {
+                mesh.triangles.push([a, b, c]);
+                mesh.triangles.push([a, c, d]);
+            } else {
+                mesh.triangles.push([a, b, d]);
+                mesh.triangles.push([b, c, d]);
+            }
+        }
+    }
+    drop(outs);
+    drop(index);
+    if settings.method == Method::MarchingCubes {
+        mesh.compute_normals();
+    } else if mesh.normals.contains(&[0.0; 3]) {
+        let given = std::mem::take(&mut mesh.normals);
+        mesh.compute_normals();
+        for (n, g) in mesh.normals.iter_mut().zip(given) {
+            if g != [0.0; 3] {
+                *n = g;
+            }
+        }
+    }
+    #[cfg(feature = "export")]
+    if let Some(frac) = settings.simplify {
+        let cell = grid.h.iter().fold(0.0f64, |a, &b| a.max(b));
+        simplify_mesh(&mut mesh, (frac * cell) as f32);
+    }
+    progress.done.store(progress.estimated(), Ordering::Relaxed);
+    Ok(mesh)
+}
+
+/// Error-bounded edge-collapse simplification (meshopt), absolute error `error`.
+#[cfg(feature = "export")]
+pub fn simplify_mesh(mesh: &mut Mesh, error: f32) {
+    if mesh.triangles.is_empty() {
+        return;
+    }
+    let flat: Vec<u32> = mesh.triangles.iter().flatten().copied().collect();
+    let bytes: Vec<u8> = mesh
+        .positions
+        .iter()
+        .flat_map(|p| p.iter().flat_map(|c| c.to_le_bytes()))
+        .collect();
+    let Ok(adapter) = meshopt::VertexDataAdapter::new(&bytes, 12, 0) else {
+        return;
+    };
+    let out = meshopt::simplify(
+        &flat,
+        &adapter,
+        0,
+        error,
+        meshopt::SimplifyOptions::LockBorder | meshopt::SimplifyOptions::ErrorAbsolute,
+        None,
+    );
+    let mut remap = vec![u32::MAX; mesh.positions.len()];
+    let mut m = Mesh::default();
+    for &i in &out {
+        if remap[i as usize] == u32::MAX {
+            remap[i as usize] = m.positions.len() as u32;
+            m.positions.push(mesh.positions[i as usize]);
+            if !mesh.normals.is_empty() {
+                m.normals.push(mesh.normals[i as usize]);
+            }
+            if !mesh.colors.is_empty() {
+                m.colors.push(mesh.colors[i as usize]);
+            }
+        }
+    }
+    m.triangles = out
+        .chunks_exact(3)
+        .map(|t| {
+            [
+                remap[t[0] as usize],
+                remap[t[1] as usize],
+                remap[t[2] as usize],
+            ]
+        })
+        .collect();
+    *mesh = m;
+}
