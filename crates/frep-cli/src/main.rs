@@ -60,7 +60,7 @@ enum Command {
         /// The body to polygonize (default: my_model, else the first).
         #[arg(long)]
         body: Option<String>,
-        /// Parameters a[1], a[2], ... as a comma-separated list.
+        /// Parameters `a[1], a[2], ...` as a comma-separated list.
         #[arg(long, allow_hyphen_values = true)]
         param: Option<String>,
         /// Error-bounded simplification after meshing, as a fraction of the cell size.
