@@ -3,6 +3,7 @@
 mod bounds;
 mod eval;
 mod format;
+mod glsl;
 mod mesh;
 mod render;
 
@@ -59,7 +60,7 @@ enum Command {
         /// The body to polygonize (default: my_model, else the first).
         #[arg(long)]
         body: Option<String>,
-        /// Parameters a[1], a[2], ... as a comma-separated list.
+        /// Parameters `a[1], a[2], ...` as a comma-separated list.
         #[arg(long, allow_hyphen_values = true)]
         param: Option<String>,
         /// Error-bounded simplification after meshing, as a fraction of the cell size.
@@ -76,6 +77,28 @@ enum Command {
         /// The body to compile (default: my_model, else the first).
         #[arg(long)]
         body: Option<String>,
+    },
+    /// Write the WebGL2 (GLSL ES 3.00) ray-casting fragment shader of a
+    /// model, annotated with its uniforms, and the uniforms as JSON
+    /// (`OUT.json`). Every constant is a uniform: editing a number of the
+    /// model only changes the JSON.
+    Glsl {
+        /// The HyperFun model (.hf).
+        model: PathBuf,
+        /// The fragment shader to write; the uniforms go to OUT.json.
+        #[arg(short, long)]
+        output: PathBuf,
+        /// The body to compile (default: my_model, else the first).
+        #[arg(long)]
+        body: Option<String>,
+        /// The box ray cast (`v`, `min,max`, `xs,ys,zs` or
+        /// `x0,y0,z0,x1,y1,z1`; default: the model's `-- bounds:` line, else
+        /// its detected extent, else [-10, 10]³).
+        #[arg(long, allow_hyphen_values = true)]
+        bounds: Option<String>,
+        /// Default values of the parameters a[] (`u_params`), `a1,a2,…`.
+        #[arg(long, allow_hyphen_values = true)]
+        param: Option<String>,
     },
     /// Render an image of a model (or, with --views, a turntable view set).
     Render(render::RenderArgs),
@@ -106,6 +129,13 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Eval { model, body } => eval::run(&model, body),
         Command::Check { model, body } => eval::check(&model, body),
+        Command::Glsl {
+            model,
+            output,
+            body,
+            bounds,
+            param,
+        } => glsl::run(&model, body, &output, bounds, param),
         Command::Render(args) => render::render(args),
         Command::Slices(args) => render::slices(args),
         Command::Mesh {

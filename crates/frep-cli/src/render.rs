@@ -50,7 +50,7 @@ pub struct RenderArgs {
     /// JPEG / WebP quality 1-100.
     #[arg(long, default_value_t = 85)]
     pub quality: u8,
-    /// Parameter values a[1],a[2],...
+    /// Parameter values `a[1],a[2],...`
     #[arg(long, allow_hyphen_values = true)]
     pub param: Option<String>,
     /// Ambient occlusion.
@@ -79,7 +79,7 @@ pub struct SlicesArgs {
     /// Grid resolution: N, or NX,NY,NZ.
     #[arg(long, default_value = "64")]
     pub grid: String,
-    /// Parameter values a[1],a[2],...
+    /// Parameter values `a[1],a[2],...`
     #[arg(long, allow_hyphen_values = true)]
     pub param: Option<String>,
     /// The body to sample (default: my_model, else the first).

@@ -256,7 +256,21 @@ fn expr(fl: Flavour, node: &Node, i: usize, leaves: &Leaves) -> String {
             _ => format!("{p}{}({}, {})", binary_suffix(op), v(a), v(b)),
         },
         Node::PowI(a, 2) => format!("{p}sq({})", v(a)),
-        Node::PowI(a, n) => format!("{p}powi({}, {n})", v(a)),
+        Node::PowI(a, n) => {
+            let k = n.unsigned_abs();
+            match fl {
+                Flavour::Point => format!("hf_powi({a}, hf_pw{k}({a}), {n})", a = v(a)),
+                Flavour::Interval => format!(
+                    "iv_powi({a}, hf_pw{k}(iv_powi_base({a}, {k})), {n})",
+                    a = v(a)
+                ),
+                Flavour::Dual => format!(
+                    "du_powi({a}, hf_pw{k}({a}.x), hf_pw{k1}({a}.x), {n})",
+                    a = v(a),
+                    k1 = (i64::from(n) - 1).unsigned_abs()
+                ),
+            }
+        }
         Node::Select(c, t, e) => match fl {
             Flavour::Point => format!("hf_truthy({}) ? {} : {}", v(c), v(t), v(e)),
             _ => format!("{p}select({}, {}, {})", v(c), v(t), v(e)),
@@ -342,4 +356,38 @@ pub(crate) fn attrs_function(
         outs[2].index()
     );
     n
+}
+
+/// `hf_pwK(float)` and `hf_pwK(vec2)` (componentwise `b^K` by repeated
+/// squaring, written out: no loop) for every exponent `K` the `PowI` nodes
+/// of `live` need (`|n|`, and `|n - 1|` for the derivative).
+pub(crate) fn power_functions(out: &mut String, tape: &Tape, live: &[bool]) {
+    let mut ks = std::collections::BTreeSet::new();
+    for (i, n) in tape.nodes.iter().enumerate() {
+        if let Node::PowI(_, n) = *n {
+            if live[i] && n != 2 {
+                ks.insert(u64::from(n.unsigned_abs()));
+                ks.insert((i64::from(n) - 1).unsigned_abs());
+            }
+        }
+    }
+    for k in ks {
+        for ty in ["float", "vec2"] {
+            let _ = write!(out, "{ty} hf_pw{k}({ty} b) {{ {ty} r = {ty}(1.0);");
+            if k > 0 {
+                let _ = write!(out, " {ty} x = b;");
+            }
+            let mut e = k;
+            while e > 0 {
+                if e & 1 == 1 {
+                    out.push_str(" r *= x;");
+                }
+                e >>= 1;
+                if e > 0 {
+                    out.push_str(" x *= x;");
+                }
+            }
+            out.push_str(" return r; }\n");
+        }
+    }
 }

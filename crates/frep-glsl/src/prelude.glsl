@@ -8,81 +8,81 @@ const float HF_TAU = 6.28318530717959;
 const float HF_HALF_PI = 1.57079632679490;
 float hf_inf() { return uintBitsToFloat(0x7f800000u); }
 float hf_nan() { return uintBitsToFloat(0x7fc00000u); }
+// Every helper is branch-free and loop-free (one return, selects through
+// mix() with a bool): SwiftShader (software WebGL) inlines them at every
+// use, and branches or loops there made the first draw of models of a few
+// hundred nodes take minutes.
+float hf_sel(bool c, float a, float b) { return mix(b, a, c); }
+vec2 iv_sel(bool c, vec2 a, vec2 b) { return mix(b, a, bvec2(c)); }
+vec4 du_sel(bool c, vec4 a, vec4 b) { return mix(b, a, bvec4(c)); }
+bool hf_both(bool a, bool b) { return all(bvec2(a, b)); }
+bool hf_either(bool a, bool b) { return any(bvec2(a, b)); }
 bool hf_truthy(float v) { return abs(v) >= HF_EPS; }
-float hf_min(float a, float b) { return a < b ? a : b; }
-float hf_max(float a, float b) { return a > b ? a : b; }
-float hf_div(float a, float b) { return abs(b) < HF_EPS ? hf_nan() : a / b; }
-float hf_sqrt(float a) { return a < 0.0 ? hf_nan() : sqrt(a); }
-float hf_log(float a) { return a > 0.0 ? log(a) : hf_nan(); }
-float hf_logd(float a) { return a > 0.0 ? log(a) * 0.434294481903252 : hf_nan(); }
-float hf_tan(float a) { return abs(cos(a)) < HF_EPS ? hf_nan() : tan(a); }
-float hf_asin(float a) { return abs(a) > 1.0 ? hf_nan() : asin(a); }
-float hf_acos(float a) { return abs(a) > 1.0 ? hf_nan() : acos(a); }
+float hf_min(float a, float b) { return hf_sel(a < b, a, b); }
+float hf_max(float a, float b) { return hf_sel(a > b, a, b); }
+float hf_div(float a, float b) { return hf_sel(abs(b) < HF_EPS, hf_nan(), a / b); }
+float hf_sqrt(float a) { return hf_sel(a < 0.0, hf_nan(), sqrt(a)); }
+float hf_log(float a) { return hf_sel(a > 0.0, log(a), hf_nan()); }
+float hf_logd(float a) { return hf_sel(a > 0.0, log(a) * 0.434294481903252, hf_nan()); }
+float hf_tan(float a) { return hf_sel(abs(cos(a)) < HF_EPS, hf_nan(), tan(a)); }
+float hf_asin(float a) { return hf_sel(abs(a) > 1.0, hf_nan(), asin(a)); }
+float hf_acos(float a) { return hf_sel(abs(a) > 1.0, hf_nan(), acos(a)); }
 // tanh saturates to +-1 in f32 beyond |a| = 10; clamping avoids inf/inf.
 float hf_tanh(float a) { return tanh(clamp(a, -10.0, 10.0)); }
-float hf_atan2(float y, float x) { return (x == 0.0 && y == 0.0) ? 0.0 : atan(y, x); }
+float hf_atan2(float y, float x) { return hf_sel(hf_both(x == 0.0, y == 0.0), 0.0, atan(y, x)); }
 // HyperFun's rounding of indices and mod operands: half up.
-float hf_round(float v) { float r = ceil(v); return r - v > 0.5 ? r - 1.0 : r; }
+float hf_round(float v) { float r = ceil(v); return hf_sel(r - v > 0.5, r - 1.0, r); }
 float hf_frac(float a) { return a - trunc(a); }
-float hf_not(float a) { return abs(a) >= HF_EPS ? 0.0 : 1.0; }
-float hf_and(float a, float b) { return (hf_truthy(a) && hf_truthy(b)) ? 1.0 : 0.0; }
-float hf_or(float a, float b) { return (hf_truthy(a) || hf_truthy(b)) ? 1.0 : 0.0; }
-float hf_eq(float a, float b) { return abs(a - b) < HF_EPS ? 1.0 : 0.0; }
-float hf_ne(float a, float b) { return abs(a - b) >= HF_EPS ? 1.0 : 0.0; }
-float hf_lt(float a, float b) { return a < b ? 1.0 : 0.0; }
-float hf_gt(float a, float b) { return a > b ? 1.0 : 0.0; }
-float hf_le(float a, float b) { return a <= b ? 1.0 : 0.0; }
-float hf_ge(float a, float b) { return a >= b ? 1.0 : 0.0; }
+float hf_not(float a) { return float(abs(a) < HF_EPS); }
+float hf_and(float a, float b) { return float(hf_both(hf_truthy(a), hf_truthy(b))); }
+float hf_or(float a, float b) { return float(hf_either(hf_truthy(a), hf_truthy(b))); }
+float hf_eq(float a, float b) { return float(abs(a - b) < HF_EPS); }
+float hf_ne(float a, float b) { return float(abs(a - b) >= HF_EPS); }
+float hf_lt(float a, float b) { return float(a < b); }
+float hf_gt(float a, float b) { return float(a > b); }
+float hf_le(float a, float b) { return float(a <= b); }
+float hf_ge(float a, float b) { return float(a >= b); }
 // C fmod of the half-up rounded operands (GLSL mod() is floor-based; fmod
 // truncates). The f32 quotient may be off by one: fix r into (-|y|, |y|) with
 // the sign of x.
 float hf_mod(float a, float b) {
   float x = hf_round(a);
   float y = hf_round(b);
-  if (y == 0.0 || isinf(x) || isnan(x) || isnan(y)) return hf_nan();
-  if (isinf(y)) return x;
+  bool bad = any(bvec4(y == 0.0, isinf(x), isnan(x), isnan(y)));
   float ay = abs(y);
   float r = x - y * trunc(x / y);
-  if (x >= 0.0) { if (r < 0.0) r += ay; if (r >= ay) r -= ay; }
-  else { if (r > 0.0) r -= ay; if (r <= -ay) r += ay; }
-  return r;
+  float rp = r + hf_sel(r < 0.0, ay, 0.0);
+  rp -= hf_sel(rp >= ay, ay, 0.0);
+  float rn = r - hf_sel(r > 0.0, ay, 0.0);
+  rn += hf_sel(rn <= -ay, ay, 0.0);
+  r = hf_sel(isinf(y), x, hf_sel(x >= 0.0, rp, rn));
+  return hf_sel(bad, hf_nan(), r);
 }
-// b^|n| by squaring, inverted for n < 0 (no HyperFun zero rule).
-float hf_powi_raw(float b, int n) {
-  int k = n < 0 ? -n : n;
-  float r = 1.0;
-  float x = b;
-  while (k > 0) {
-    if ((k & 1) == 1) r *= x;
-    k = k >> 1;
-    if (k > 0) x *= x;
-  }
-  return n < 0 ? 1.0 / r : r;
+// HyperFun b^n for a constant integer n, given raw = b^|n| (computed by the
+// generated loop-free hf_pwK): |b| < 1e-6 gives 0 (n >= 1) or an error;
+// n < 0 inverts.
+float hf_powi(float b, float raw, int n) {
+  float v = hf_sel(n < 0, 1.0 / raw, raw);
+  return hf_sel(abs(b) < HF_EPS, hf_sel(n <= 0, hf_nan(), 0.0), v);
 }
-// HyperFun b^n for a constant integer n: |b| < 1e-6 gives 0 (n >= 1) or an error.
-float hf_powi(float b, int n) {
-  if (abs(b) < HF_EPS) return n <= 0 ? hf_nan() : 0.0;
-  return hf_powi_raw(b, n);
-}
-float hf_sq(float b) { return abs(b) < HF_EPS ? 0.0 : b * b; }
+float hf_sq(float b) { return hf_sel(abs(b) < HF_EPS, 0.0, b * b); }
 // HyperFun b^e (checked).
 float hf_pow(float b, float e) {
-  if (abs(b) < HF_EPS) return e <= HF_EPS ? hf_nan() : 0.0;
-  if (e - floor(e) < HF_EPS) {
-    float n = hf_round(abs(e));
-    float r = pow(abs(b), n);
-    if (b < 0.0 && mod(n, 2.0) == 1.0) r = -r;
-    return e < 0.0 ? 1.0 / r : r;
-  }
-  return b < 0.0 ? hf_nan() : exp(e * log(b));
+  float n = hf_round(abs(e));
+  float r = pow(abs(b), n);
+  r = hf_sel(hf_both(b < 0.0, mod(n, 2.0) == 1.0), -r, r);
+  float vi = hf_sel(e < 0.0, 1.0 / r, r);
+  float vf = hf_sel(b < 0.0, hf_nan(), exp(e * log(b)));
+  float v = hf_sel(e - floor(e) < HF_EPS, vi, vf);
+  return hf_sel(abs(b) < HF_EPS, hf_sel(e <= HF_EPS, hf_nan(), 0.0), v);
 }
 // C pow(b, e).
 float hf_powf(float b, float e) {
-  if (e == 0.0) return 1.0;
-  if (b > 0.0) return pow(b, e);
-  if (b == 0.0) return e > 0.0 ? 0.0 : hf_inf();
-  if (e == floor(e)) { float r = pow(-b, e); return mod(abs(e), 2.0) == 1.0 ? -r : r; }
-  return hf_nan();
+  float r = pow(-b, e);
+  float v = hf_sel(e == floor(e), hf_sel(mod(abs(e), 2.0) == 1.0, -r, r), hf_nan());
+  v = hf_sel(b == 0.0, hf_sel(e > 0.0, 0.0, hf_inf()), v);
+  v = hf_sel(b > 0.0, pow(b, e), v);
+  return hf_sel(e == 0.0, 1.0, v);
 }
 // R-union a + b + sqrt(a^2 + b^2) in a form stable in f32: where a + b < 0
 // it is 2ab / (a + b - sqrt(a^2 + b^2)) (no cancellation); operands beyond
@@ -90,17 +90,15 @@ float hf_powf(float b, float e) {
 // u(+inf, b) = +inf, u(-inf, b) = b.
 float hf_ru(float a, float b) {
   float m = max(abs(a), abs(b));
-  if (isinf(m)) {
-    if (a > 0.0 && isinf(a)) return a;
-    if (b > 0.0 && isinf(b)) return b;
-    return isinf(a) ? b : a;
-  }
-  float k = 1.0;
-  if (m > 1e18) { k = m; a /= m; b /= m; }
-  float s = sqrt(a * a + b * b);
-  float t = a + b;
-  float r = t >= 0.0 ? t + s : (2.0 * a * b) / (t - s);
-  return r * k;
+  float vinf = hf_sel(hf_both(a > 0.0, isinf(a)), a,
+                      hf_sel(hf_both(b > 0.0, isinf(b)), b, hf_sel(isinf(a), b, a)));
+  float k = hf_sel(m > 1e18, m, 1.0);
+  float x = a / k;
+  float y = b / k;
+  float s = sqrt(x * x + y * y);
+  float t = x + y;
+  float r = hf_sel(t >= 0.0, t + s, (2.0 * x * y) / (t - s));
+  return hf_sel(isinf(m), vinf, r * k);
 }
 // R-intersection a + b - sqrt(a^2 + b^2) = -u(-a, -b).
 float hf_ri(float a, float b) { return -hf_ru(-a, -b); }
@@ -116,8 +114,8 @@ float hf_blend(float r, float f1, float f2, float a0, float a1, float a2) {
 // ---- intervals ----------------------------------------------------------
 vec2 iv_all() { return vec2(-hf_inf(), hf_inf()); }
 // NaN bounds (inf - inf, 0 * inf) widen to infinity.
-vec2 iv_fix(vec2 a) { return vec2(isnan(a.x) ? -hf_inf() : a.x, isnan(a.y) ? hf_inf() : a.y); }
-vec2 iv_pt(float v) { return isnan(v) ? iv_all() : vec2(v); }
+vec2 iv_fix(vec2 a) { return mix(a, iv_all(), isnan(a)); }
+vec2 iv_pt(float v) { return iv_sel(isnan(v), iv_all(), vec2(v)); }
 vec2 iv_hull(vec2 a, vec2 b) { return vec2(min(a.x, b.x), max(a.y, b.y)); }
 vec2 iv_neg(vec2 a) { return vec2(-a.y, -a.x); }
 vec2 iv_add(vec2 a, vec2 b) { return iv_fix(a + b); }
@@ -127,51 +125,40 @@ vec2 iv_mul(vec2 a, vec2 b) {
   p = mix(p, vec4(0.0), isnan(p));
   return vec2(min(min(p.x, p.y), min(p.z, p.w)), max(max(p.x, p.y), max(p.z, p.w)));
 }
-vec2 iv_abs(vec2 a) {
-  if (a.x >= 0.0) return a;
-  if (a.y <= 0.0) return vec2(-a.y, -a.x);
-  return vec2(0.0, max(-a.x, a.y));
-}
-vec2 iv_sqr(vec2 a) { vec2 m = iv_abs(a); return vec2(m.x * m.x, m.y * m.y); }
+vec2 iv_abs(vec2 a) { return vec2(max(max(a.x, -a.y), 0.0), max(-a.x, a.y)); }
+vec2 iv_sqr(vec2 a) { vec2 m = iv_abs(a); return m * m; }
 // a / b, b not containing 0.
 vec2 iv_divnz(vec2 a, vec2 b) { return iv_mul(a, vec2(1.0 / b.y, 1.0 / b.x)); }
 // checked division: a divisor within 1e-6 of 0 is an error (NaN) somewhere.
-vec2 iv_div(vec2 a, vec2 b) { return (b.x < HF_EPS && b.y > -HF_EPS) ? iv_all() : iv_divnz(a, b); }
-vec2 iv_divf(vec2 a, vec2 b) { return (b.x <= 0.0 && b.y >= 0.0) ? iv_all() : iv_divnz(a, b); }
-vec2 iv_min(vec2 a, vec2 b) { return vec2(min(a.x, b.x), min(a.y, b.y)); }
-vec2 iv_max(vec2 a, vec2 b) { return vec2(max(a.x, b.x), max(a.y, b.y)); }
-vec2 iv_sqrt(vec2 a) { return a.x < 0.0 ? iv_all() : sqrt(a); }
+vec2 iv_div(vec2 a, vec2 b) { return iv_sel(hf_both(b.x < HF_EPS, b.y > -HF_EPS), iv_all(), iv_divnz(a, b)); }
+vec2 iv_divf(vec2 a, vec2 b) { return iv_sel(hf_both(b.x <= 0.0, b.y >= 0.0), iv_all(), iv_divnz(a, b)); }
+vec2 iv_min(vec2 a, vec2 b) { return min(a, b); }
+vec2 iv_max(vec2 a, vec2 b) { return max(a, b); }
+vec2 iv_sqrt(vec2 a) { return iv_sel(a.x < 0.0, iv_all(), sqrt(a)); }
 vec2 iv_exp(vec2 a) { return exp(a); }
-vec2 iv_log(vec2 a) { return a.x > 0.0 ? log(a) : iv_all(); }
-vec2 iv_logd(vec2 a) { return a.x > 0.0 ? log(a) * 0.434294481903252 : iv_all(); }
+vec2 iv_log(vec2 a) { return iv_sel(a.x > 0.0, log(a), iv_all()); }
+vec2 iv_logd(vec2 a) { return iv_sel(a.x > 0.0, log(a) * 0.434294481903252, iv_all()); }
 vec2 iv_sin(vec2 a) {
-  if (!(a.y - a.x < HF_TAU)) return vec2(-1.0, 1.0);
   float s0 = sin(a.x);
   float s1 = sin(a.y);
-  float lo = min(s0, s1);
-  float hi = max(s0, s1);
-  if (HF_HALF_PI + HF_TAU * ceil((a.x - HF_HALF_PI) / HF_TAU) <= a.y) hi = 1.0;
-  if (-HF_HALF_PI + HF_TAU * ceil((a.x + HF_HALF_PI) / HF_TAU) <= a.y) lo = -1.0;
-  return vec2(lo, hi);
+  float hi = hf_sel(HF_HALF_PI + HF_TAU * ceil((a.x - HF_HALF_PI) / HF_TAU) <= a.y, 1.0, max(s0, s1));
+  float lo = hf_sel(-HF_HALF_PI + HF_TAU * ceil((a.x + HF_HALF_PI) / HF_TAU) <= a.y, -1.0, min(s0, s1));
+  return iv_sel(a.y - a.x < HF_TAU, vec2(lo, hi), vec2(-1.0, 1.0));
 }
 vec2 iv_cos(vec2 a) {
-  if (!(a.y - a.x < HF_TAU)) return vec2(-1.0, 1.0);
   float c0 = cos(a.x);
   float c1 = cos(a.y);
-  float lo = min(c0, c1);
-  float hi = max(c0, c1);
-  if (HF_TAU * ceil(a.x / HF_TAU) <= a.y) hi = 1.0;
-  if (HF_PI + HF_TAU * ceil((a.x - HF_PI) / HF_TAU) <= a.y) lo = -1.0;
-  return vec2(lo, hi);
+  float hi = hf_sel(HF_TAU * ceil(a.x / HF_TAU) <= a.y, 1.0, max(c0, c1));
+  float lo = hf_sel(HF_PI + HF_TAU * ceil((a.x - HF_PI) / HF_TAU) <= a.y, -1.0, min(c0, c1));
+  return iv_sel(a.y - a.x < HF_TAU, vec2(lo, hi), vec2(-1.0, 1.0));
 }
 vec2 iv_tan(vec2 a) {
-  if (!(a.y - a.x < HF_PI)) return iv_all();
   float margin = 1e-5 + 1e-6 * max(abs(a.x), abs(a.y));
-  if (HF_HALF_PI + HF_PI * ceil((a.x - margin - HF_HALF_PI) / HF_PI) <= a.y + margin) return iv_all();
-  return vec2(tan(a.x), tan(a.y));
+  bool pole = HF_HALF_PI + HF_PI * ceil((a.x - margin - HF_HALF_PI) / HF_PI) <= a.y + margin;
+  return iv_sel(hf_both(a.y - a.x < HF_PI, !pole), vec2(tan(a.x), tan(a.y)), iv_all());
 }
-vec2 iv_asin(vec2 a) { return (a.x < -1.0 || a.y > 1.0) ? iv_all() : asin(a); }
-vec2 iv_acos(vec2 a) { return (a.x < -1.0 || a.y > 1.0) ? iv_all() : vec2(acos(a.y), acos(a.x)); }
+vec2 iv_asin(vec2 a) { return iv_sel(hf_either(a.x < -1.0, a.y > 1.0), iv_all(), asin(a)); }
+vec2 iv_acos(vec2 a) { return iv_sel(hf_either(a.x < -1.0, a.y > 1.0), iv_all(), vec2(acos(a.y), acos(a.x))); }
 vec2 iv_atan(vec2 a) { return atan(a); }
 vec2 iv_sinh(vec2 a) { return iv_fix(sinh(a)); }
 vec2 iv_cosh(vec2 a) { vec2 m = iv_abs(a); return iv_fix(cosh(m)); }
@@ -181,72 +168,67 @@ vec2 iv_floor(vec2 a) { return floor(a); }
 vec2 iv_trunc(vec2 a) { return trunc(a); }
 vec2 iv_round(vec2 a) { return vec2(hf_round(a.x), hf_round(a.y)); }
 vec2 iv_frac(vec2 a) {
-  if (isinf(a.x) || isinf(a.y)) return vec2(a.x >= 0.0 ? 0.0 : -1.0, a.y <= 0.0 ? 0.0 : 1.0);
-  if (trunc(a.x) == trunc(a.y)) return a - trunc(a.x);
-  return vec2(a.x >= 0.0 ? 0.0 : -1.0, a.y <= 0.0 ? 0.0 : 1.0);
+  vec2 wide = vec2(hf_sel(a.x >= 0.0, 0.0, -1.0), hf_sel(a.y <= 0.0, 0.0, 1.0));
+  bool same = hf_both(!any(isinf(a)), trunc(a.x) == trunc(a.y));
+  return iv_sel(same, a - trunc(a.x), wide);
 }
 // Truth of a value as an interval: x = 1 when surely truthy, y = 0 when surely falsy.
 vec2 iv_truth(vec2 a) {
-  bool t = a.x >= HF_EPS || a.y <= -HF_EPS;
-  bool f = a.x > -HF_EPS && a.y < HF_EPS;
-  return vec2(t ? 1.0 : 0.0, f ? 0.0 : 1.0);
+  bool t = hf_either(a.x >= HF_EPS, a.y <= -HF_EPS);
+  bool f = hf_both(a.x > -HF_EPS, a.y < HF_EPS);
+  return vec2(float(t), float(!f));
 }
 vec2 iv_not(vec2 a) { vec2 t = iv_truth(a); return vec2(1.0 - t.y, 1.0 - t.x); }
 vec2 iv_and(vec2 a, vec2 b) { return min(iv_truth(a), iv_truth(b)); }
 vec2 iv_or(vec2 a, vec2 b) { return max(iv_truth(a), iv_truth(b)); }
-float hf_b(bool b) { return b ? 1.0 : 0.0; }
-vec2 iv_lt(vec2 a, vec2 b) { return vec2(hf_b(a.y < b.x), hf_b(a.x < b.y)); }
-vec2 iv_gt(vec2 a, vec2 b) { return vec2(hf_b(a.x > b.y), hf_b(a.y > b.x)); }
-vec2 iv_le(vec2 a, vec2 b) { return vec2(hf_b(a.y <= b.x), hf_b(a.x <= b.y)); }
-vec2 iv_ge(vec2 a, vec2 b) { return vec2(hf_b(a.x >= b.y), hf_b(a.y >= b.x)); }
+vec2 iv_lt(vec2 a, vec2 b) { return vec2(float(a.y < b.x), float(a.x < b.y)); }
+vec2 iv_gt(vec2 a, vec2 b) { return vec2(float(a.x > b.y), float(a.y > b.x)); }
+vec2 iv_le(vec2 a, vec2 b) { return vec2(float(a.y <= b.x), float(a.x <= b.y)); }
+vec2 iv_ge(vec2 a, vec2 b) { return vec2(float(a.x >= b.y), float(a.y >= b.x)); }
 vec2 iv_eq(vec2 a, vec2 b) {
   vec2 d = iv_sub(a, b);
-  return vec2(hf_b(d.x > -HF_EPS && d.y < HF_EPS), hf_b(d.y > -HF_EPS && d.x < HF_EPS));
+  return vec2(float(hf_both(d.x > -HF_EPS, d.y < HF_EPS)), float(hf_both(d.y > -HF_EPS, d.x < HF_EPS)));
 }
 vec2 iv_ne(vec2 a, vec2 b) { vec2 e = iv_eq(a, b); return vec2(1.0 - e.y, 1.0 - e.x); }
 vec2 iv_select(vec2 c, vec2 t, vec2 e) {
   vec2 k = iv_truth(c);
-  if (k.x == 1.0) return t;
-  if (k.y == 0.0) return e;
-  return iv_hull(t, e);
+  return iv_sel(k.x == 1.0, t, iv_sel(k.y == 0.0, e, iv_hull(t, e)));
 }
 // atan2(y, x): over a box clear of the branch cut (x <= 0, y = 0) the angle
 // is extremal at the corners.
 vec2 iv_atan2(vec2 y, vec2 x) {
-  if (y.x <= 0.0 && y.y >= 0.0 && x.x <= 0.0) return vec2(-HF_PI, HF_PI);
   vec4 c = vec4(atan(y.x, x.x), atan(y.x, x.y), atan(y.y, x.x), atan(y.y, x.y));
-  return vec2(min(min(c.x, c.y), min(c.z, c.w)), max(max(c.x, c.y), max(c.z, c.w)));
+  vec2 r = vec2(min(min(c.x, c.y), min(c.z, c.w)), max(max(c.x, c.y), max(c.z, c.w)));
+  return iv_sel(all(bvec3(y.x <= 0.0, y.y >= 0.0, x.x <= 0.0)), vec2(-HF_PI, HF_PI), r);
 }
 // fmod of rounded integers: |r| <= |y| - 1, sign of x.
 vec2 iv_mod(vec2 a, vec2 b) {
   vec2 x = iv_round(a);
   vec2 y = iv_round(b);
-  if (y.x <= 0.0 && y.y >= 0.0) return iv_all();
   float m = max(abs(y.x), abs(y.y)) - 1.0;
-  if (x.x >= 0.0) return vec2(0.0, min(x.y, m));
-  if (x.y <= 0.0) return vec2(max(x.x, -m), 0.0);
-  return vec2(max(x.x, -m), min(x.y, m));
+  vec2 r = vec2(hf_sel(x.x >= 0.0, 0.0, max(x.x, -m)), hf_sel(x.y <= 0.0, 0.0, min(x.y, m)));
+  return iv_sel(hf_both(y.x <= 0.0, y.y >= 0.0), iv_all(), r);
 }
-vec2 iv_powi_raw(vec2 a, int k) {
-  if ((k & 1) == 1) return vec2(hf_powi_raw(a.x, k), hf_powi_raw(a.y, k));
-  vec2 m = iv_abs(a);
-  return vec2(hf_powi_raw(m.x, k), hf_powi_raw(m.y, k));
+// The base whose end points, raised to |n|, bound a^|n|: a for odd |n|,
+// |a| for even.
+vec2 iv_powi_base(vec2 a, int k) { return iv_sel((k & 1) == 1, a, iv_abs(a)); }
+// HyperFun b^n (constant integer n), raw = the end points of
+// iv_powi_base(a, |n|) raised to |n|: where a meets |b| < 1e-6 the value is
+// 0 (n >= 1) or an error (n <= 0).
+vec2 iv_powi(vec2 a, vec2 raw, int n) {
+  bool band = hf_both(a.x < HF_EPS, a.y > -HF_EPS);
+  vec2 r = iv_sel(n < 0, vec2(1.0 / raw.y, 1.0 / raw.x), raw);
+  r = iv_sel(band, vec2(min(r.x, 0.0), max(r.y, 0.0)), r);
+  r = iv_sel(n == 0, vec2(1.0), r);
+  return iv_sel(hf_both(n <= 0, band), iv_all(), r);
 }
-// HyperFun b^n (constant integer n): where a meets |b| < 1e-6 the value is 0
-// (n >= 1) or an error (n <= 0).
-vec2 iv_powi(vec2 a, int n) {
-  bool band = a.x < HF_EPS && a.y > -HF_EPS;
-  if (n <= 0 && band) return iv_all();
-  if (n == 0) return vec2(1.0);
-  vec2 r = iv_powi_raw(a, n < 0 ? -n : n);
-  if (n < 0) r = vec2(1.0 / r.y, 1.0 / r.x);
-  if (band) r = vec2(min(r.x, 0.0), max(r.y, 0.0));
-  return r;
+vec2 iv_sq(vec2 a) {
+  vec2 r = iv_sqr(a);
+  return iv_sel(hf_both(a.x < HF_EPS, a.y > -HF_EPS), vec2(0.0, r.y), r);
 }
-vec2 iv_sq(vec2 a) { return iv_powi(a, 2); }
 // b^e = exp(e log b) for b > 0 (integer exponents too); otherwise unknown.
-vec2 iv_pow(vec2 b, vec2 e) { return b.x >= HF_EPS ? iv_fix(exp(iv_mul(e, log(b)))) : iv_all(); }
-vec2 iv_powf(vec2 b, vec2 e) { return b.x > 0.0 ? iv_fix(exp(iv_mul(e, log(b)))) : iv_all(); }
+vec2 iv_pow(vec2 b, vec2 e) { return iv_sel(b.x >= HF_EPS, iv_fix(exp(iv_mul(e, log(b)))), iv_all()); }
+vec2 iv_powf(vec2 b, vec2 e) { return iv_sel(b.x > 0.0, iv_fix(exp(iv_mul(e, log(b)))), iv_all()); }
 // R-functions are non-decreasing in both arguments (R-difference:
 // non-increasing in the second): exact bounds from the end points.
 vec2 iv_ru(vec2 a, vec2 b) { return iv_fix(vec2(hf_ru(a.x, b.x), hf_ru(a.y, b.y))); }
@@ -268,8 +250,8 @@ vec4 du_add(vec4 a, vec4 b) { return a + b; }
 vec4 du_sub(vec4 a, vec4 b) { return a - b; }
 vec4 du_mul(vec4 a, vec4 b) { return vec4(a.x * b.x, a.x * b.yzw + b.x * a.yzw); }
 vec4 du_divf(vec4 a, vec4 b) { return vec4(a.x / b.x, (a.yzw * b.x - a.x * b.yzw) / (b.x * b.x)); }
-vec4 du_div(vec4 a, vec4 b) { return abs(b.x) < HF_EPS ? du_nan() : du_divf(a, b); }
-vec4 du_abs(vec4 a) { return a.x < 0.0 ? -a : a; }
+vec4 du_div(vec4 a, vec4 b) { return du_sel(abs(b.x) < HF_EPS, du_nan(), du_divf(a, b)); }
+vec4 du_abs(vec4 a) { return du_sel(a.x < 0.0, -a, a); }
 vec4 du_sqrt(vec4 a) { float s = hf_sqrt(a.x); return du_chain(s, 0.5 / s, a); }
 vec4 du_exp(vec4 a) { float e = exp(a.x); return du_chain(e, e, a); }
 vec4 du_log(vec4 a) { return du_chain(hf_log(a.x), 1.0 / a.x, a); }
@@ -289,11 +271,11 @@ vec4 du_trunc(vec4 a) { return du_c(trunc(a.x)); }
 vec4 du_round(vec4 a) { return du_c(hf_round(a.x)); }
 vec4 du_frac(vec4 a) { return vec4(hf_frac(a.x), a.yzw); }
 vec4 du_not(vec4 a) { return du_c(hf_not(a.x)); }
-vec4 du_min(vec4 a, vec4 b) { return a.x < b.x ? a : b; }
-vec4 du_max(vec4 a, vec4 b) { return a.x > b.x ? a : b; }
+vec4 du_min(vec4 a, vec4 b) { return du_sel(a.x < b.x, a, b); }
+vec4 du_max(vec4 a, vec4 b) { return du_sel(a.x > b.x, a, b); }
 vec4 du_atan2(vec4 a, vec4 b) {
   float r = a.x * a.x + b.x * b.x;
-  return vec4(hf_atan2(a.x, b.x), r > 0.0 ? (b.x * a.yzw - a.x * b.yzw) / r : vec3(0.0));
+  return vec4(hf_atan2(a.x, b.x), mix(vec3(0.0), (b.x * a.yzw - a.x * b.yzw) / r, bvec3(r > 0.0)));
 }
 vec4 du_mod(vec4 a, vec4 b) { return du_c(hf_mod(a.x, b.x)); }
 vec4 du_lt(vec4 a, vec4 b) { return du_c(hf_lt(a.x, b.x)); }
@@ -304,19 +286,20 @@ vec4 du_eq(vec4 a, vec4 b) { return du_c(hf_eq(a.x, b.x)); }
 vec4 du_ne(vec4 a, vec4 b) { return du_c(hf_ne(a.x, b.x)); }
 vec4 du_and(vec4 a, vec4 b) { return du_c(hf_and(a.x, b.x)); }
 vec4 du_or(vec4 a, vec4 b) { return du_c(hf_or(a.x, b.x)); }
-vec4 du_select(vec4 c, vec4 t, vec4 e) { return hf_truthy(c.x) ? t : e; }
-vec4 du_powi(vec4 a, int n) {
-  float v = hf_powi(a.x, n);
-  float dv = (n == 0 || abs(a.x) < HF_EPS) ? 0.0 : float(n) * hf_powi_raw(a.x, n - 1);
+vec4 du_select(vec4 c, vec4 t, vec4 e) { return du_sel(hf_truthy(c.x), t, e); }
+// raw = a.x^|n|, raw1 = a.x^|n - 1| (generated loop-free hf_pwK).
+vec4 du_powi(vec4 a, float raw, float raw1, int n) {
+  float v = hf_powi(a.x, raw, n);
+  float p1 = hf_sel(n - 1 < 0, 1.0 / raw1, raw1);
+  float dv = hf_sel(hf_either(n == 0, abs(a.x) < HF_EPS), 0.0, float(n) * p1);
   return du_chain(v, dv, a);
 }
 vec4 du_sq(vec4 a) { return du_chain(hf_sq(a.x), 2.0 * a.x, a); }
 // d(b^e) = b^e (e db / b + de log|b|)
 vec4 du_powv(float v, vec4 b, vec4 e) {
-  if (abs(b.x) < HF_EPS || v == 0.0) return vec4(v, 0.0, 0.0, 0.0);
   vec3 g = v * (e.x * b.yzw / b.x);
-  if (e.yzw != vec3(0.0)) g += v * log(abs(b.x)) * e.yzw;
-  return vec4(v, g);
+  g += mix(vec3(0.0), v * log(abs(b.x)) * e.yzw, bvec3(any(notEqual(e.yzw, vec3(0.0)))));
+  return du_sel(hf_either(abs(b.x) < HF_EPS, v == 0.0), vec4(v, 0.0, 0.0, 0.0), vec4(v, g));
 }
 vec4 du_pow(vec4 b, vec4 e) { return du_powv(hf_pow(b.x, e.x), b, e); }
 vec4 du_powf(vec4 b, vec4 e) { return du_powv(hf_powf(b.x, e.x), b, e); }
@@ -325,11 +308,11 @@ vec4 du_powf(vec4 b, vec4 e) { return du_powv(hf_powf(b.x, e.x), b, e); }
 vec4 du_ru(vec4 a, vec4 b) {
   float v = hf_ru(a.x, b.x);
   float m = max(abs(a.x), abs(b.x));
-  if (!(m > 0.0) || isinf(m)) return vec4(v, a.yzw + b.yzw);
   float x = a.x / m;
   float y = b.x / m;
   float s = sqrt(x * x + y * y);
-  return vec4(v, (1.0 + x / s) * a.yzw + (1.0 + y / s) * b.yzw);
+  return du_sel(hf_either(!(m > 0.0), isinf(m)), vec4(v, a.yzw + b.yzw),
+                vec4(v, (1.0 + x / s) * a.yzw + (1.0 + y / s) * b.yzw));
 }
 vec4 du_ri(vec4 a, vec4 b) { return -du_ru(-a, -b); }
 vec4 du_rd(vec4 a, vec4 b) { return -du_ru(-a, b); }

@@ -13,7 +13,9 @@ uniform int u_max_steps;
 uniform vec3 u_background;
 out vec4 frag_color;
 
-const int HF_STACK = 32;
+// Deepest subdivision of the ray (segments of 2^-HF_LEVELS of its length)
+// and bisection steps on the point sign.
+const int HF_LEVELS = 22;
 const int HF_BISECT = 12;
 
 void hf_ray(vec2 frag, out vec3 o, out vec3 d) {
@@ -60,52 +62,79 @@ void main() {
     frag_color = hf_output(u_background);
     return;
   }
-  vec2 stack[HF_STACK];
-  int sp = 1;
-  stack[0] = vec2(t0, t1);
+  // One loop, bounded by a uniform, with exactly one call site of field_iv
+  // and one of field (SwiftShader inlines every call site and unrolls loops
+  // of constant bounds; a stack array indexed dynamically is slow there).
+  // The segments form an implicit binary tree over [t0, t1]: segment `idx`
+  // of level `lvl` is [t0 + idx len, t0 + (idx + 1) len], len = (t1 - t0) /
+  // 2^lvl; the next segment in ray order is idx + 1 with its trailing zero
+  // bits dropped (back up the tree), so no stack is needed.
+  // mode 0: interval test of the segment; mode 1: point samples at its
+  // start, middle and end; mode 2: bisection between lo (outside) and hi.
+  int lvl = 0;
+  int idx = 0;
+  int mode = 0;
+  int j = 0;
   int steps = 0;
   bool capped = false;
   bool found = false;
   float hit = 0.0;
-  while (sp > 0) {
-    if (steps >= u_max_steps) { capped = true; break; }
-    steps++;
-    sp--;
-    vec2 seg = stack[sp];
-    vec2 f = hf_segment_iv(o, d, seg);
-    if (f.y < 0.0) continue;
-    if (f.x >= 0.0) { found = true; hit = seg.x; break; }
-    if (seg.y - seg.x > fp0 + fp1 * seg.y && sp + 2 <= HF_STACK) {
-      float m = 0.5 * (seg.x + seg.y);
-      stack[sp] = vec2(m, seg.y);
-      stack[sp + 1] = vec2(seg.x, m);
-      sp += 2;
-      continue;
-    }
-    // Pixel-sized and undecided: samples at the start, middle and end, then
-    // bisection between the last outside and the first inside sample (one
-    // call site of field()).
-    float lo = seg.x;
-    float hi = seg.y;
-    bool inside = false;
-    float h = 0.5 * (seg.y - seg.x);
-    for (int j = 0; j < 3 + HF_BISECT; j++) {
-      float t;
-      if (!inside) {
-        if (j >= 3) break;
-        t = seg.x + float(j) * h;
+  float lo = t0;
+  float hi = t1;
+  vec2 seg = vec2(t0, t1);
+  int iters = u_max_steps * (4 + HF_BISECT);
+  for (int it = 0; it < iters; it++) {
+    bool next = false;
+    if (mode == 0) {
+      if (steps >= u_max_steps) { capped = true; break; }
+      steps++;
+      vec2 f = hf_segment_iv(o, d, seg);
+      if (f.y < 0.0) {
+        next = true;
+      } else if (f.x >= 0.0) {
+        found = true;
+        hit = seg.x;
+        break;
+      } else if (seg.y - seg.x > fp0 + fp1 * seg.y && lvl < HF_LEVELS) {
+        lvl++;
+        idx *= 2;
       } else {
-        t = 0.5 * (lo + hi);
+        // Pixel-sized and undecided: point samples.
+        mode = 1;
+        j = 0;
+        lo = seg.x;
+        hi = seg.y;
       }
-      if (field(o + d * t) >= 0.0) {
-        inside = true;
-        hi = t;
-        if (j == 0) break;
+    } else {
+      float t = mode == 1 ? seg.x + float(j) * 0.5 * (seg.y - seg.x) : 0.5 * (lo + hi);
+      bool inside = field(o + d * t) >= 0.0;
+      if (mode == 1) {
+        if (inside && j == 0) { found = true; hit = t; break; }
+        if (inside) {
+          hi = t;
+          mode = 2;
+          j = 0;
+        } else {
+          lo = t;
+          j++;
+          if (j == 3) { mode = 0; next = true; }
+        }
       } else {
-        lo = t;
+        if (inside) hi = t; else lo = t;
+        j++;
+        if (j == HF_BISECT) { found = true; hit = hi; break; }
       }
     }
-    if (inside) { found = true; hit = hi; break; }
+    if (next) {
+      idx++;
+      // Drop the trailing zero bits of idx: back up to the parent level.
+      int tz = int(round(log2(float(idx & -idx))));
+      idx = idx >> tz;
+      lvl -= tz;
+      if (lvl <= 0) break;
+    }
+    float len = (t1 - t0) / float(1 << lvl);
+    seg = vec2(t0 + float(idx) * len, t0 + float(idx + 1) * len);
   }
   if (capped) {
     frag_color = vec4(1.0, 0.0, 1.0, 1.0);

@@ -5,7 +5,7 @@
 //!
 //! 1. **Frustum pruning.** The tile's rays are clipped to the model box; the
 //!    part of the tile frustum between two depths is enclosed in an
-//!    axis-aligned box ([`Frustum::aabb_between_depths`]) and the field is
+//!    axis-aligned box ([`Frustum::aabb_between_depths`](crate::camera::Frustum::aabb_between_depths)) and the field is
 //!    evaluated over it with interval arithmetic. A box that is outside
 //!    (negative or NaN throughout) is skipped; a box that is inside throughout
 //!    ends every ray still searching there; otherwise the tape is shortened

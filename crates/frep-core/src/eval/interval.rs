@@ -34,22 +34,18 @@ use super::Inputs;
 use crate::graph::{Node, NodeId, Tape};
 use crate::ops::{self, BinaryOp, BlendOp, UnaryOp, EPS};
 use std::f64::consts::{FRAC_PI_2, PI};
+use std::sync::{Mutex, OnceLock, PoisonError};
 
 /// The least double above `x` (`x` itself for `+inf` and NaN).
 #[inline]
 pub fn next_up(x: f64) -> f64 {
-    if x.is_nan() || x == f64::INFINITY {
+    if !(x < f64::INFINITY) {
         return x;
     }
-    if x == 0.0 {
-        return f64::from_bits(1);
-    }
-    let b = x.to_bits();
-    if x > 0.0 {
-        f64::from_bits(b + 1)
-    } else {
-        f64::from_bits(b - 1)
-    }
+    // Up is one more in the bits of a positive number, one less in those
+    // of a negative one; both zeros step to the least positive double.
+    let b = if x == 0.0 { 0 } else { x.to_bits() as i64 };
+    f64::from_bits(b.wrapping_add(1 | (b >> 63)) as u64)
 }
 
 /// The greatest double below `x` (`x` itself for `-inf` and NaN).
@@ -58,7 +54,18 @@ pub fn next_down(x: f64) -> f64 {
     -next_up(-x)
 }
 
+/// Whether `ulps` steps from `x` are plain steps of its bits: a normal
+/// number, away from zero and the infinities.
+#[inline(always)]
+fn bit_steps(x: f64) -> bool {
+    (f64::MIN_POSITIVE..=1e300).contains(&x.abs())
+}
+
 fn down(mut x: f64, ulps: u32) -> f64 {
+    if bit_steps(x) {
+        let (b, n) = (x.to_bits(), u64::from(ulps));
+        return f64::from_bits(if x > 0.0 { b - n } else { b + n });
+    }
     for _ in 0..ulps {
         x = next_down(x);
     }
@@ -66,6 +73,10 @@ fn down(mut x: f64, ulps: u32) -> f64 {
 }
 
 fn up(mut x: f64, ulps: u32) -> f64 {
+    if bit_steps(x) {
+        let (b, n) = (x.to_bits(), u64::from(ulps));
+        return f64::from_bits(if x > 0.0 { b + n } else { b - n });
+    }
     for _ in 0..ulps {
         x = next_up(x);
     }
@@ -956,21 +967,423 @@ fn all_truthy(a: Interval) -> bool {
     !a.nan && !a.is_empty() && (a.lo >= EPS || a.hi <= -EPS)
 }
 
+// ----- fast paths ----------------------------------------------------------
+//
+// The evaluator's common operations on nonempty, finite bounds: there no
+// infinity meets a zero or an opposite infinity and no bound becomes NaN,
+// so each gives exactly what the general rule gives; every other case goes
+// to the general rule. Each reads its arguments and writes its result in
+// `v` itself, and the general rules are out-of-line calls that do the same:
+// a result merged from both paths would go through the stack, and be loaded
+// back in a width that the store cannot forward.
+
+/// Nonempty with finite bounds.
+#[inline(always)]
+fn finite1(a: Interval) -> bool {
+    let w = a.hi - a.lo;
+    (0.0..f64::INFINITY).contains(&w)
+}
+
+/// Both nonempty with finite bounds (or a conservative no).
+#[inline(always)]
+fn finite2(a: Interval, b: Interval) -> bool {
+    let (wa, wb) = (a.hi - a.lo, b.hi - b.lo);
+    (wa >= 0.0) & (wb >= 0.0) & (wa + wb < f64::INFINITY)
+}
+
+/// Out-of-line general rules: `v[out] = f(v[a], ..)`. They take indices,
+/// not intervals, so that the fast path keeps its arguments in registers.
+macro_rules! slow {
+    ($name:ident, $f:expr, $($a:ident),+) => {
+        #[cold]
+        #[inline(never)]
+        fn $name(v: &mut Regs, out: usize, $($a: u32),+) {
+            v.set(out, $f($(v.get($a)),+));
+        }
+    };
+}
+
+slow!(add_slow, add, a, b);
+slow!(sub_slow, sub, a, b);
+slow!(mul_slow, mul, a, b);
+slow!(sqr_slow, sqr, a);
+slow!(neg_slow, neg, a);
+slow!(sqrt_slow, sqrt_iv, a);
+slow!(powi2_slow, |a| powi_iv(a, 2), a);
+slow!(min_slow, min_iv, a, b);
+slow!(max_slow, max_iv, a, b);
+slow!(runion_slow, |a, b| rfun(BinaryOp::RUnion, a, b), a, b);
+slow!(rinter_slow, |a, b| rfun(BinaryOp::RInter, a, b), a, b);
+slow!(rdiff_slow, |a, b| rfun(BinaryOp::RDiff, a, b), a, b);
+
+#[inline(always)]
+fn add_at(v: &mut Regs, out: usize, i: u32, j: u32) {
+    let (a, b) = (v.get(i), v.get(j));
+    if finite2(a, b) {
+        v.set(
+            out,
+            Interval {
+                lo: a.lo + b.lo,
+                hi: a.hi + b.hi,
+                nan: a.nan | b.nan,
+            },
+        );
+    } else {
+        add_slow(v, out, i, j);
+    }
+}
+
+#[inline(always)]
+fn sub_at(v: &mut Regs, out: usize, i: u32, j: u32) {
+    let (a, b) = (v.get(i), v.get(j));
+    if finite2(a, b) {
+        v.set(
+            out,
+            Interval {
+                lo: a.lo - b.hi,
+                hi: a.hi - b.lo,
+                nan: a.nan | b.nan,
+            },
+        );
+    } else {
+        sub_slow(v, out, i, j);
+    }
+}
+
+#[inline(always)]
+fn mul_at(v: &mut Regs, out: usize, i: u32, j: u32) {
+    let (a, b) = (v.get(i), v.get(j));
+    if finite2(a, b) {
+        let c = [a.lo * b.lo, a.lo * b.hi, a.hi * b.lo, a.hi * b.hi];
+        v.set(
+            out,
+            Interval {
+                lo: c.iter().copied().fold(f64::INFINITY, f64::min),
+                hi: c.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+                nan: a.nan | b.nan,
+            },
+        );
+    } else {
+        mul_slow(v, out, i, j);
+    }
+}
+
+#[inline(always)]
+fn sqr_at(v: &mut Regs, out: usize, i: u32) {
+    let a = v.get(i);
+    if finite1(a) {
+        let (l, h) = (a.lo * a.lo, a.hi * a.hi);
+        let (lo, hi) = if a.lo >= 0.0 {
+            (l, h)
+        } else if a.hi <= 0.0 {
+            (h, l)
+        } else {
+            (0.0, l.max(h))
+        };
+        v.set(out, Interval { lo, hi, nan: a.nan });
+    } else {
+        sqr_slow(v, out, i);
+    }
+}
+
+#[inline(always)]
+fn neg_at(v: &mut Regs, out: usize, i: u32) {
+    let a = v.get(i);
+    if finite1(a) {
+        v.set(
+            out,
+            Interval {
+                lo: -a.hi,
+                hi: -a.lo,
+                nan: a.nan,
+            },
+        );
+    } else {
+        neg_slow(v, out, i);
+    }
+}
+
+#[inline(always)]
+fn sqrt_at(v: &mut Regs, out: usize, i: u32) {
+    let a = v.get(i);
+    if finite1(a) & (a.lo >= 0.0) {
+        v.set(
+            out,
+            Interval {
+                lo: a.lo.max(0.0).sqrt(),
+                hi: a.hi.sqrt(),
+                nan: a.nan,
+            },
+        );
+    } else {
+        sqrt_slow(v, out, i);
+    }
+}
+
+/// `b ^ 2` away from the zero gap `(-EPS, EPS)`, where the rule is the
+/// square's.
+#[inline(always)]
+fn powi2_at(v: &mut Regs, out: usize, i: u32) {
+    let b = v.get(i);
+    let (l, h) = (b.lo * b.lo, b.hi * b.hi);
+    if finite1(b) & (b.lo >= EPS) {
+        v.set(
+            out,
+            Interval {
+                lo: l,
+                hi: h,
+                nan: b.nan,
+            },
+        );
+    } else if finite1(b) & (b.hi <= -EPS) {
+        v.set(
+            out,
+            Interval {
+                lo: h,
+                hi: l,
+                nan: b.nan,
+            },
+        );
+    } else {
+        powi2_slow(v, out, i);
+    }
+}
+
+#[inline(always)]
+fn min_at(v: &mut Regs, out: usize, i: u32, j: u32) {
+    let (a, b) = (v.get(i), v.get(j));
+    if !(a.nan | b.nan) & (a.lo <= a.hi) & (b.lo <= b.hi) {
+        v.set(
+            out,
+            Interval {
+                lo: a.lo.min(b.lo),
+                hi: a.hi.min(b.hi),
+                nan: false,
+            },
+        );
+    } else {
+        min_slow(v, out, i, j);
+    }
+}
+
+#[inline(always)]
+fn max_at(v: &mut Regs, out: usize, i: u32, j: u32) {
+    let (a, b) = (v.get(i), v.get(j));
+    if !(a.nan | b.nan) & (a.lo <= a.hi) & (b.lo <= b.hi) {
+        v.set(
+            out,
+            Interval {
+                lo: a.lo.max(b.lo),
+                hi: a.hi.max(b.hi),
+                nan: false,
+            },
+        );
+    } else {
+        max_slow(v, out, i, j);
+    }
+}
+
+/// The R-functions on moderate arguments (see [`rfun`]).
+#[inline(always)]
+fn rfun_at(v: &mut Regs, out: usize, op: BinaryOp, i: u32, j: u32) {
+    let (a, b) = (v.get(i), v.get(j));
+    let m = a.lo.abs().max(a.hi.abs()) + b.lo.abs().max(b.hi.abs());
+    if finite2(a, b) & (m <= SQUARE_SAFE) {
+        let w = 8.0 * f64::EPSILON * m + 1e-160;
+        let (lo, hi) = match op {
+            BinaryOp::RUnion => (ops::r_union(a.lo, b.lo), ops::r_union(a.hi, b.hi)),
+            BinaryOp::RInter => (ops::r_inter(a.lo, b.lo), ops::r_inter(a.hi, b.hi)),
+            _ => (ops::r_diff(a.lo, b.hi), ops::r_diff(a.hi, b.lo)),
+        };
+        v.set(
+            out,
+            Interval {
+                lo: next_down(lo - w),
+                hi: next_up(hi + w),
+                nan: a.nan | b.nan,
+            },
+        );
+    } else {
+        match op {
+            BinaryOp::RUnion => runion_slow(v, out, i, j),
+            BinaryOp::RInter => rinter_slow(v, out, i, j),
+            _ => rdiff_slow(v, out, i, j),
+        }
+    }
+}
+
+/// One operation of the lowered tape, its arguments as node indices. The
+/// common operations have variants of their own; leaves are not here
+/// (constants are stored once, inputs set at the start of each evaluation).
+#[derive(Clone, Copy, Debug)]
+enum Op {
+    Add(u32, u32),
+    Sub(u32, u32),
+    Mul(u32, u32),
+    /// `a * a`.
+    Sqr(u32),
+    Neg(u32),
+    /// `Sqrt` and `SqrtF` (the same interval rule).
+    Sqrt(u32),
+    /// `PowI(a, 2)`.
+    PowI2(u32),
+    Min(u32, u32),
+    Max(u32, u32),
+    RUnion(u32, u32),
+    RInter(u32, u32),
+    RDiff(u32, u32),
+    Unary(UnaryOp, u32),
+    /// Any other binary operation; the flag tells whether both arguments
+    /// are the same node.
+    Binary(BinaryOp, u32, u32, bool),
+    PowI(u32, i32),
+    Select(u32, u32, u32),
+    /// A blend; its arguments are `blends[i]`.
+    Blend(BlendOp, u32),
+    /// `Check(_, v)`: the value of `v`.
+    Copy(u32),
+}
+
+/// An operation and the node it computes.
+#[derive(Clone, Copy, Debug)]
+struct Instr {
+    op: Op,
+    out: u32,
+}
+
+/// The nodes' intervals, one array per field: reads and writes of single
+/// fields never meet a wider access to the same bytes (which the store
+/// buffer cannot forward).
+#[derive(Clone, Debug, Default)]
+struct Regs {
+    lo: Vec<f64>,
+    hi: Vec<f64>,
+    nan: Vec<bool>,
+}
+
+impl Regs {
+    #[inline(always)]
+    fn get(&self, i: u32) -> Interval {
+        let i = i as usize;
+        Interval {
+            lo: self.lo[i],
+            hi: self.hi[i],
+            nan: self.nan[i],
+        }
+    }
+
+    #[inline(always)]
+    fn set(&mut self, i: usize, r: Interval) {
+        self.lo[i] = r.lo;
+        self.hi[i] = r.hi;
+        self.nan[i] = r.nan;
+    }
+}
+
 /// Interval evaluator of one tape, reusable across boxes.
-#[derive(Clone, Debug)]
+///
+/// [`new`](IntervalEval::new) lowers the tape once into a flat list of
+/// operations. The per-node intervals and [`Choice`]s are assembled when
+/// [`intervals`](IntervalEval::intervals) or
+/// [`choices`](IntervalEval::choices) is first called after an evaluation.
+#[derive(Debug)]
 pub struct IntervalEval {
     tape: Tape,
-    values: Vec<Interval>,
-    choices: Vec<Choice>,
+    code: Vec<Instr>,
+    /// The input leaves (`X`, `Param`), set at the start of each evaluation.
+    leaves: Vec<(u32, Node)>,
+    blends: Vec<[u32; 5]>,
+    regs: Regs,
+    /// The intervals of the last evaluation, once asked for.
+    values: OnceLock<Vec<Interval>>,
+    /// The choices of the last evaluation, once asked for.
+    choices: OnceLock<Vec<Choice>>,
+    /// Buffers for the next intervals and choices.
+    spare: Mutex<(Vec<Interval>, Vec<Choice>)>,
+}
+
+impl Clone for IntervalEval {
+    fn clone(&self) -> Self {
+        IntervalEval {
+            tape: self.tape.clone(),
+            code: self.code.clone(),
+            leaves: self.leaves.clone(),
+            blends: self.blends.clone(),
+            regs: self.regs.clone(),
+            values: self.values.clone(),
+            choices: self.choices.clone(),
+            spare: Mutex::default(),
+        }
+    }
 }
 
 impl IntervalEval {
     /// An evaluator for `tape`.
     pub fn new(tape: &Tape) -> Self {
+        let n = tape.len();
+        let mut regs = Regs {
+            lo: vec![Interval::EMPTY.lo; n],
+            hi: vec![Interval::EMPTY.hi; n],
+            nan: vec![false; n],
+        };
+        let mut code = Vec::new();
+        let mut leaves = Vec::new();
+        let mut blends = Vec::new();
+        let ix = |id: NodeId| id.index() as u32;
+        for (i, node) in tape.nodes.iter().enumerate() {
+            let op = match *node {
+                Node::Const(bits) => {
+                    regs.set(i, Interval::point(f64::from_bits(bits)));
+                    continue;
+                }
+                Node::Error(_) => {
+                    regs.set(i, Interval::NAN);
+                    continue;
+                }
+                Node::X(_) | Node::Param(_) => {
+                    leaves.push((i as u32, *node));
+                    continue;
+                }
+                Node::Unary(op, a) => match op {
+                    UnaryOp::Neg => Op::Neg(ix(a)),
+                    UnaryOp::Sqrt | UnaryOp::SqrtF => Op::Sqrt(ix(a)),
+                    _ => Op::Unary(op, ix(a)),
+                },
+                Node::PowI(a, 2) => Op::PowI2(ix(a)),
+                Node::PowI(a, n) => Op::PowI(ix(a), n),
+                Node::Binary(op, a, b) => {
+                    let (a, b) = (ix(a), ix(b));
+                    match op {
+                        BinaryOp::Add => Op::Add(a, b),
+                        BinaryOp::Sub => Op::Sub(a, b),
+                        BinaryOp::Mul if a == b => Op::Sqr(a),
+                        BinaryOp::Mul => Op::Mul(a, b),
+                        BinaryOp::Min => Op::Min(a, b),
+                        BinaryOp::Max => Op::Max(a, b),
+                        BinaryOp::RUnion => Op::RUnion(a, b),
+                        BinaryOp::RInter => Op::RInter(a, b),
+                        BinaryOp::RDiff => Op::RDiff(a, b),
+                        _ => Op::Binary(op, a, b, a == b),
+                    }
+                }
+                Node::Select(c, t, e) => Op::Select(ix(c), ix(t), ix(e)),
+                Node::Blend(op, args) => {
+                    blends.push(args.map(ix));
+                    Op::Blend(op, (blends.len() - 1) as u32)
+                }
+                Node::Check(_, v) => Op::Copy(ix(v)),
+            };
+            code.push(Instr { op, out: i as u32 });
+        }
         IntervalEval {
             tape: tape.clone(),
-            values: vec![Interval::EMPTY; tape.len()],
-            choices: vec![Choice::default(); tape.len()],
+            code,
+            leaves,
+            blends,
+            regs,
+            values: OnceLock::new(),
+            choices: OnceLock::new(),
+            spare: Mutex::default(),
         }
     }
 
@@ -986,7 +1399,7 @@ impl IntervalEval {
         self.tape
             .outputs
             .first()
-            .map_or(Interval::NAN, |o| self.values[o.index()])
+            .map_or(Interval::NAN, |o| self.regs.get(o.index() as u32))
     }
 
     /// Evaluates every node and returns every output's interval.
@@ -1001,89 +1414,138 @@ impl IntervalEval {
         self.tape
             .outputs
             .iter()
-            .map(|o| self.values[o.index()])
+            .map(|o| self.regs.get(o.index() as u32))
             .collect()
     }
 
     /// Each node's interval from the last evaluation.
     pub fn intervals(&self) -> &[Interval] {
-        &self.values
+        self.values.get_or_init(|| {
+            let mut v = std::mem::take(&mut self.spare().0);
+            v.clear();
+            v.extend((0..self.tape.len() as u32).map(|i| self.regs.get(i)));
+            v
+        })
     }
 
     /// Each node's [`Choice`] from the last evaluation (for
     /// [`simplify`](crate::simplify::simplify)).
     pub fn choices(&self) -> &[Choice] {
-        &self.choices
+        self.choices.get_or_init(|| {
+            let values = self.intervals();
+            let mut c = std::mem::take(&mut self.spare().1);
+            c.clear();
+            let nodes = &self.tape.nodes;
+            c.extend((0..nodes.len()).map(|i| choice_of(nodes, values, i)));
+            c
+        })
+    }
+
+    fn spare(&self) -> std::sync::MutexGuard<'_, (Vec<Interval>, Vec<Choice>)> {
+        self.spare.lock().unwrap_or_else(PoisonError::into_inner)
     }
 
     fn run(&mut self, x: Interval, y: Interval, z: Interval, inputs: &Inputs) {
-        let v = &mut self.values;
-        for (i, node) in self.tape.nodes.iter().enumerate() {
-            let g = |id: NodeId| v[id.index()];
-            let mut exact = Pick::Both;
-            let mut sign = Pick::Both;
-            let r = match *node {
-                Node::Const(bits) => Interval::point(f64::from_bits(bits)),
+        let spare = self.spare.get_mut().unwrap_or_else(PoisonError::into_inner);
+        if let Some(v) = self.values.take() {
+            spare.0 = v;
+        }
+        if let Some(c) = self.choices.take() {
+            spare.1 = c;
+        }
+        let v = &mut self.regs;
+        for &(i, node) in &self.leaves {
+            let r = match node {
                 Node::X(0) => x,
                 Node::X(1) => y,
                 Node::X(2) => z,
                 Node::X(k) => Interval::point(inputs.extra_x(k)),
                 Node::Param(k) => Interval::point(inputs.param(k)),
-                Node::Error(_) => Interval::NAN,
-                Node::Unary(op, a) => unary(op, g(a)),
-                Node::PowI(a, n) => powi_iv(g(a), n),
-                Node::Binary(op, a, b) => {
-                    let (ia, ib) = (g(a), g(b));
-                    let r = binary(op, ia, ib, a == b);
-                    (exact, sign) = binary_picks(op, ia, ib, &self.tape.nodes, a, b);
-                    r
-                }
-                Node::Select(c, t, e) => {
-                    let ic = g(c);
-                    let (mt, mf) = (ic.may_truthy(), ic.may_falsy());
-                    if !mf {
-                        exact = Pick::Left;
-                    } else if !mt {
-                        exact = Pick::Right;
-                    }
-                    let mut r = none(false);
-                    if mt {
-                        r = r.hull(g(t));
-                    }
-                    if mf {
-                        r = r.hull(g(e));
-                    }
-                    r
-                }
-                Node::Blend(op, args) => blend_iv(op, args.map(g)),
-                Node::Check(_, val) => {
-                    exact = Pick::Right;
-                    g(val)
-                }
+                _ => unreachable!("not an input leaf"),
             };
-            if sign == Pick::Both {
-                sign = exact;
-            }
-            // Only moderate values may become ±1: a huge or infinite one
-            // overflows the squares of an R-function parent.
-            let decided = if r.is_positive() && r.tame() {
-                Decided::Positive
-            } else if r.is_negative() && r.tame() {
-                Decided::Negative
-            } else {
-                Decided::No
-            };
-            if is_bool_node(node) && !r.nan && r.lo == r.hi {
-                exact = if r.lo == 0.0 { Pick::False } else { Pick::True };
-                sign = exact;
-            }
-            v[i] = r;
-            self.choices[i] = Choice {
-                exact,
-                sign,
-                decided,
-            };
+            v.set(i as usize, r);
         }
+        for ins in &self.code {
+            let out = ins.out as usize;
+            let g = |i: u32| v.get(i);
+            match ins.op {
+                Op::Add(a, b) => add_at(v, out, a, b),
+                Op::Sub(a, b) => sub_at(v, out, a, b),
+                Op::Mul(a, b) => mul_at(v, out, a, b),
+                Op::Sqr(a) => sqr_at(v, out, a),
+                Op::Neg(a) => neg_at(v, out, a),
+                Op::Sqrt(a) => sqrt_at(v, out, a),
+                Op::PowI2(a) => powi2_at(v, out, a),
+                Op::Min(a, b) => min_at(v, out, a, b),
+                Op::Max(a, b) => max_at(v, out, a, b),
+                Op::RUnion(a, b) => rfun_at(v, out, BinaryOp::RUnion, a, b),
+                Op::RInter(a, b) => rfun_at(v, out, BinaryOp::RInter, a, b),
+                Op::RDiff(a, b) => rfun_at(v, out, BinaryOp::RDiff, a, b),
+                Op::Unary(op, a) => v.set(out, unary(op, g(a))),
+                Op::Binary(op, a, b, same) => v.set(out, binary(op, g(a), g(b), same)),
+                Op::PowI(a, n) => v.set(out, powi_iv(g(a), n)),
+                Op::Select(c, t, e) => v.set(out, select_iv(g(c), g(t), g(e))),
+                Op::Blend(op, k) => v.set(out, blend_iv(op, self.blends[k as usize].map(g))),
+                Op::Copy(a) => v.set(out, g(a)),
+            }
+        }
+    }
+}
+
+/// `select(c, t, e)`: the branches `c` may choose.
+fn select_iv(c: Interval, t: Interval, e: Interval) -> Interval {
+    let mut r = none(false);
+    if c.may_truthy() {
+        r = r.hull(t);
+    }
+    if c.may_falsy() {
+        r = r.hull(e);
+    }
+    r
+}
+
+/// The [`Choice`] of node `i`, from the intervals of an evaluation.
+fn choice_of(nodes: &[Node], v: &[Interval], i: usize) -> Choice {
+    let node = &nodes[i];
+    let r = v[i];
+    let g = |id: NodeId| v[id.index()];
+    let mut exact = Pick::Both;
+    let mut sign = Pick::Both;
+    match *node {
+        Node::Binary(op, a, b) => {
+            (exact, sign) = binary_picks(op, g(a), g(b), nodes, a, b);
+        }
+        Node::Select(c, _, _) => {
+            let ic = g(c);
+            if !ic.may_falsy() {
+                exact = Pick::Left;
+            } else if !ic.may_truthy() {
+                exact = Pick::Right;
+            }
+        }
+        Node::Check(..) => exact = Pick::Right,
+        _ => {}
+    }
+    if sign == Pick::Both {
+        sign = exact;
+    }
+    // Only moderate values may become ±1: a huge or infinite one
+    // overflows the squares of an R-function parent.
+    let decided = if r.is_positive() && r.tame() {
+        Decided::Positive
+    } else if r.is_negative() && r.tame() {
+        Decided::Negative
+    } else {
+        Decided::No
+    };
+    if is_bool_node(node) && !r.nan && r.lo == r.hi {
+        exact = if r.lo == 0.0 { Pick::False } else { Pick::True };
+        sign = exact;
+    }
+    Choice {
+        exact,
+        sign,
+        decided,
     }
 }
 
@@ -1253,6 +1715,72 @@ mod tests {
         assert_eq!(next_up(f64::INFINITY), f64::INFINITY);
         assert_eq!(next_up(f64::NEG_INFINITY), f64::MIN);
         assert_eq!(next_down(f64::INFINITY), f64::MAX);
+    }
+
+    #[test]
+    fn lazy_intervals_and_choices_follow_the_last_evaluation() {
+        let mut g = Graph::new();
+        let f = m4(&mut g, 4);
+        let tape = g.tape(&[f]);
+        let boxes = [
+            ivs([0.8, -1.0, 0.8], [1.0, -0.8, 1.0]),
+            ivs([-1.0; 3], [1.0; 3]),
+            ivs([0.84, -0.01, -0.81], [0.86, 0.01, -0.79]),
+        ];
+        let mut ev = IntervalEval::new(&tape);
+        let mut copy = ev.clone();
+        for (k, b) in boxes.iter().enumerate() {
+            let r = ev.eval(b[0], b[1], b[2], &Inputs::default());
+            copy.eval(b[0], b[1], b[2], &Inputs::default());
+            if k == 1 {
+                // This box's results stay unread.
+                continue;
+            }
+            let mut fresh = IntervalEval::new(&tape);
+            fresh.eval(b[0], b[1], b[2], &Inputs::default());
+            assert_eq!(ev.intervals()[tape.outputs[0].index()], r);
+            assert_eq!(ev.intervals(), fresh.intervals());
+            assert_eq!(ev.choices(), fresh.choices());
+            assert_eq!(copy.choices(), fresh.choices());
+            // A clone keeps the results read so far.
+            assert_eq!(ev.clone().intervals(), fresh.intervals());
+            assert_eq!(ev.clone().choices(), fresh.choices());
+        }
+    }
+
+    #[test]
+    fn ulp_steps() {
+        // The bit shortcut of `up`/`down` agrees with single steps.
+        let tiny = f64::from_bits(1);
+        for x in [
+            0.0,
+            -0.0,
+            tiny,
+            -tiny,
+            f64::MIN_POSITIVE,
+            -f64::MIN_POSITIVE,
+            1.0,
+            -1.0,
+            0.3,
+            -2.5e-300,
+            1e300,
+            -1e300,
+            1.1e300,
+            f64::MAX,
+            -f64::MAX,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+        ] {
+            for n in 0..6 {
+                let (mut d, mut u) = (x, x);
+                for _ in 0..n {
+                    d = next_down(d);
+                    u = next_up(u);
+                }
+                assert_eq!(down(x, n).to_bits(), d.to_bits(), "down({x:e}, {n})");
+                assert_eq!(up(x, n).to_bits(), u.to_bits(), "up({x:e}, {n})");
+            }
+        }
     }
 
     #[test]

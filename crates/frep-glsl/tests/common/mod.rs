@@ -4,8 +4,8 @@
 use std::io::Write;
 use std::process::{Command, Stdio};
 
-use frep_core::ops::{BinaryOp, UnaryOp};
-use frep_core::{Graph, NodeId, Tape};
+use frep_core::ops::{BinaryOp, BlendOp, EvalError, UnaryOp};
+use frep_core::{Graph, Node, NodeId, Tape};
 
 /// Validates a complete GLSL ES 3.00 fragment shader with glslangValidator.
 /// Returns `Err(log)` when it is rejected. Panics when the validator is
@@ -171,4 +171,73 @@ pub fn m4() -> Tape {
         });
     }
     g.tape(&[acc.unwrap()])
+}
+
+/// A tape with every operation of the graph.
+pub fn exhaustive() -> Tape {
+    let mut g = Graph::new();
+    let (x, y, z, w) = (g.x(0), g.x(1), g.x(2), g.x(3));
+    let (p0, p1) = (g.param(0), g.param(1));
+    let c = g.constant(0.37);
+    let xy = g.binary(BinaryOp::Add, x, w);
+    let mut terms = vec![xy, p0];
+    for op in UnaryOp::ALL {
+        let t = g.unary(op, x);
+        terms.push(t);
+    }
+    for op in BinaryOp::ALL {
+        let t = g.binary(op, x, y);
+        terms.push(t);
+    }
+    for op in [BlendOp::Union, BlendOp::Inter] {
+        let t = g.blend(op, [x, y, c, p1, z]);
+        terms.push(t);
+    }
+    for n in [3, 2, 1, 0, -1, -2, -5] {
+        let t = g.pow_int(z, n);
+        terms.push(t);
+    }
+    let sel = g.select(x, y, z);
+    terms.push(sel);
+    // An error node under a select (the graph folds errors elsewhere).
+    let err = g.error(EvalError::DivisionByZero);
+    let sel_err = g.select(y, err, x);
+    terms.push(sel_err);
+    // A check: the value of y, with sqrt(x)'s error first.
+    let sx = g.unary(UnaryOp::Sqrt, x);
+    let chk = g.check(sx, y);
+    assert!(matches!(g.node(chk), Node::Check(..)));
+    terms.push(chk);
+    let mut acc = terms[0];
+    for &t in &terms[1..] {
+        acc = g.binary(BinaryOp::Add, acc, t);
+    }
+    let tape = g.tape(&[acc]);
+    // Every kind of node is present.
+    let has = |f: &dyn Fn(&Node) -> bool| tape.nodes.iter().any(f);
+    for op in UnaryOp::ALL {
+        assert!(
+            has(&|n| matches!(n, Node::Unary(o, _) if *o == op)),
+            "{op:?}"
+        );
+    }
+    for op in BinaryOp::ALL {
+        assert!(
+            has(&|n| matches!(n, Node::Binary(o, ..) if *o == op)),
+            "{op:?}"
+        );
+    }
+    for k in 0..4 {
+        assert!(has(&|n| *n == Node::X(k)));
+    }
+    assert!(has(&|n| matches!(n, Node::Blend(BlendOp::Union, _))));
+    assert!(has(&|n| matches!(n, Node::Blend(BlendOp::Inter, _))));
+    assert!(has(&|n| matches!(n, Node::PowI(_, 0))));
+    assert!(has(&|n| matches!(n, Node::PowI(_, k) if *k < 0)));
+    assert!(has(&|n| matches!(n, Node::Error(_))));
+    assert!(has(&|n| matches!(n, Node::Check(..))));
+    assert!(has(&|n| matches!(n, Node::Select(..))));
+    assert!(has(&|n| matches!(n, Node::Param(_))));
+    assert!(has(&|n| matches!(n, Node::Const(_))));
+    tape
 }
