@@ -255,8 +255,11 @@ struct Scratch {
     leaf_rays: Vec<(usize, f64, f64)>,
     brackets: Vec<Bracket>,
     direct: Vec<(usize, f64, bool)>,
-    /// Thin-feature searches: (ray, lo depth, hi depth, f at lo).
-    searches: Vec<(usize, f64, f64, f64)>,
+    /// Thin-feature searches: (ray, lo depth, hi depth, f at lo, finest
+    /// cell length).
+    searches: Vec<(usize, f64, f64, f64, f64)>,
+    /// Tails to search (see [`TileCtx::search_tails`]).
+    tail_list: Vec<(usize, Tail)>,
     hit_rays: Vec<usize>,
     fracs: Vec<f64>,
 }
@@ -280,6 +283,7 @@ impl Scratch {
             brackets: Vec::new(),
             direct: Vec::new(),
             searches: Vec::new(),
+            tail_list: Vec::new(),
             hit_rays: Vec::new(),
             fracs: Vec::new(),
         }
@@ -542,9 +546,12 @@ impl<'a> TileCtx<'a> {
         // Rays whose last samples rose to the end of their last slab.
         for i in 0..self.sc.rays.len() {
             if self.out[i].is_none() && self.sc.tails[i].pending {
-                self.resolve_tail(i);
+                let t = self.sc.tails[i];
+                self.sc.tails[i].pending = false;
+                self.sc.tail_list.push((i, t));
             }
         }
+        self.search_tails();
     }
 
     /// The depth range of the unresolved live rays of `rect` within
@@ -662,14 +669,28 @@ impl<'a> TileCtx<'a> {
     /// The box inside the solid throughout: rays still searching hit it
     /// where they enter it (after any feature pending in front of it).
     fn fill(&mut self, e: usize, rect: Rect, za: f64, zb: f64) {
+        // Pending rises not joined by this box are searched first; a rise
+        // that runs into it goes on (the field is inside right after).
+        for y in rect.y0..rect.y1 {
+            for x in rect.x0..rect.x1 {
+                let i = (y * self.tw + x) as usize;
+                let r = self.sc.rays[i];
+                let t = self.sc.tails[i];
+                if !r.live || self.out[i].is_some() || r.z1 < za || r.z0 > zb || !t.pending {
+                    continue;
+                }
+                self.sc.tails[i].pending = false;
+                if t.z_last != za.max(r.z0) {
+                    self.sc.tail_list.push((i, t));
+                }
+            }
+        }
+        self.search_tails();
         for y in rect.y0..rect.y1 {
             for x in rect.x0..rect.x1 {
                 let i = (y * self.tw + x) as usize;
                 let r = self.sc.rays[i];
                 if !r.live || self.out[i].is_some() || r.z1 < za || r.z0 > zb {
-                    continue;
-                }
-                if self.sc.tails[i].pending && self.resolve_tail(i) {
                     continue;
                 }
                 let z = za.max(r.z0);
@@ -817,17 +838,17 @@ impl<'a> TileCtx<'a> {
 
     /// Searches the buffered `searches` (all with evaluator `e`) for a
     /// feature thinner than a step: each segment is sampled at the midpoints
-    /// of its cells no longer than `min_len` (the cells an interval
+    /// of its cells no longer than its `min_len` (the cells an interval
     /// bisection down to `min_len` would test), all in one batch; the first
     /// inside midpoint gives a bracket.
-    fn run_searches(&mut self, e: usize, min_len: f64) {
+    fn run_searches(&mut self, e: usize) {
         if self.sc.searches.is_empty() {
             return;
         }
         // One interval evaluation over each segment first: most local
         // maxima of smooth fields are far from the surface.
         let mut searches = std::mem::take(&mut self.sc.searches);
-        searches.retain(|&(i, a, b, _)| {
+        searches.retain(|&(i, a, b, _, _)| {
             let r = &self.sc.rays[i];
             let (pa, pb) = (r.at_depth(a), r.at_depth(b));
             self.stats.interval_evals += 1;
@@ -847,7 +868,7 @@ impl<'a> TileCtx<'a> {
             return;
         }
         sc.clear_points();
-        for &(i, a, b, _) in &sc.searches {
+        for &(i, a, b, _, min_len) in &sc.searches {
             let m = cells(b - a, min_len);
             let r = sc.rays[i];
             let w = (b - a) / m as f64;
@@ -861,7 +882,7 @@ impl<'a> TileCtx<'a> {
         self.stats.point_evals += sc.xs.len() as u64;
         sc.eval_points(e, &self.caster.inputs);
         let mut off = 0;
-        for &(i, a, b, fa) in &sc.searches {
+        for &(i, a, b, fa, min_len) in &sc.searches {
             let m = cells(b - a, min_len);
             let w = (b - a) / m as f64;
             let v = &sc.vals[off..off + m];
@@ -886,34 +907,43 @@ impl<'a> TileCtx<'a> {
         sc.searches.clear();
     }
 
-    /// Searches ray `i`'s pending segment (see [`Tail`]), if any, and
-    /// clears it. Returns whether it hit.
-    fn resolve_tail(&mut self, i: usize) -> bool {
-        let t = self.sc.tails[i];
-        self.sc.tails[i].pending = false;
-        t.pending && self.search_tail(i, t)
-    }
-
-    /// Searches the segment of tail `t` of ray `i` with the evaluator it was
-    /// sampled with; on a hit, records it. Returns whether it hit.
-    fn search_tail(&mut self, i: usize, t: Tail) -> bool {
-        let e = t.ev as usize;
-        let step = t.z_last - t.z_prev;
+    /// Searches the segments of the buffered `tail_list` (rays and their
+    /// pending tails), each with the evaluator it was sampled with, one
+    /// batch per evaluator; hits are recorded. Empties the list (the
+    /// callers clear the rays' pending flags).
+    fn search_tails(&mut self) {
+        let mut list = std::mem::take(&mut self.sc.tail_list);
+        if list.is_empty() {
+            self.sc.tail_list = list;
+            return;
+        }
+        list.sort_by_key(|(_, t)| t.ev);
         let brackets = std::mem::take(&mut self.sc.brackets);
         let direct = std::mem::take(&mut self.sc.direct);
         let searches = std::mem::take(&mut self.sc.searches);
         // Hits of another box waiting for normals (from `fill`): not with
-        // this tape.
+        // these tapes.
         let need = std::mem::take(&mut self.sc.need_normal);
-        self.sc.searches.push((i, t.z_prev, t.z_last, t.f_prev));
-        self.run_searches(e, self.min_len(step, t.z_prev));
-        let hit = !self.sc.brackets.is_empty();
-        self.finish(e);
+        let mut k = 0;
+        while k < list.len() {
+            let e = list[k].1.ev;
+            while k < list.len() && list[k].1.ev == e {
+                let (i, t) = list[k];
+                let min_len = self.min_len(t.z_last - t.z_prev, t.z_prev);
+                self.sc
+                    .searches
+                    .push((i, t.z_prev, t.z_last, t.f_prev, min_len));
+                k += 1;
+            }
+            self.run_searches(e as usize);
+            self.finish(e as usize);
+        }
         self.sc.brackets = brackets;
         self.sc.direct = direct;
         self.sc.searches = searches;
         self.sc.need_normal = need;
-        hit
+        list.clear();
+        self.sc.tail_list = list;
     }
 
     /// Refines the buffered brackets (evaluator `e`), records their hits and
@@ -951,6 +981,24 @@ impl<'a> TileCtx<'a> {
     fn leaf(&mut self, e: usize, rect: Rect, za: f64, zb: f64) {
         let step = self.caster.step_px.max(1e-3) * self.footprint(za).max(1e-300);
         let n = (((zb - za) / step).ceil() as usize).clamp(1, 4096);
+        let min_len = self.min_len(step, za);
+        // Pending segments not followed by this slab: search them first
+        // (they are in front).
+        for y in rect.y0..rect.y1 {
+            for x in rect.x0..rect.x1 {
+                let i = (y * self.tw + x) as usize;
+                let r = &self.sc.rays[i];
+                let t = self.sc.tails[i];
+                if !r.live || self.out[i].is_some() || r.z1 < za || r.z0 > zb || !t.pending {
+                    continue;
+                }
+                if t.z_last != za.max(r.z0) {
+                    self.sc.tails[i].pending = false;
+                    self.sc.tail_list.push((i, t));
+                }
+            }
+        }
+        self.search_tails();
         let mut leaf_rays = std::mem::take(&mut self.sc.leaf_rays);
         leaf_rays.clear();
         for y in rect.y0..rect.y1 {
@@ -960,15 +1008,7 @@ impl<'a> TileCtx<'a> {
                 if !r.live || self.out[i].is_some() || r.z1 < za || r.z0 > zb {
                     continue;
                 }
-                let lo = za.max(r.z0);
-                let hi = zb.min(r.z1);
-                let t = &self.sc.tails[i];
-                // A pending segment not followed by this slab: search it
-                // first (it is in front).
-                if t.pending && t.z_last != lo && self.resolve_tail(i) {
-                    continue;
-                }
-                leaf_rays.push((i, lo, hi));
+                leaf_rays.push((i, za.max(r.z0), zb.min(r.z1)));
             }
         }
         if leaf_rays.is_empty() {
@@ -1050,7 +1090,8 @@ impl<'a> TileCtx<'a> {
                                 pending = true;
                             } else {
                                 let a = k.saturating_sub(1);
-                                sc.searches.push((i, z(a), z((k + 1).min(n)), v[a]));
+                                sc.searches
+                                    .push((i, z(a), z((k + 1).min(n)), v[a], min_len));
                             }
                             break;
                         }
@@ -1074,20 +1115,15 @@ impl<'a> TileCtx<'a> {
         // Pending segments of the previous slabs come first: a hit there
         // replaces anything this slab found behind it.
         if !resolve_first.is_empty() {
-            let mut hit = Vec::new();
-            for &(i, t) in &resolve_first {
-                if self.search_tail(i, t) {
-                    hit.push(i);
-                }
-            }
-            let keep = |r: usize| !hit.contains(&r);
+            self.sc.tail_list.append(&mut resolve_first);
+            self.search_tails();
             let sc = &mut *self.sc;
-            sc.brackets.retain(|b| keep(b.ray));
-            sc.direct.retain(|d| keep(d.0));
-            sc.searches.retain(|s| keep(s.0));
+            let out = &*self.out;
+            sc.brackets.retain(|b| out[b.ray].is_none());
+            sc.direct.retain(|d| out[d.0].is_none());
+            sc.searches.retain(|s| out[s.0].is_none());
         }
-        let min_len = self.min_len(step, za);
-        self.run_searches(e, min_len);
+        self.run_searches(e);
         self.finish(e);
         self.sc.leaf_rays = leaf_rays;
     }
