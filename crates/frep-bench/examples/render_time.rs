@@ -4,11 +4,40 @@
 //! turntable of the model's own box). Prints the minimum time per example,
 //! and the caster's counters with `FREP_BENCH_STATS=1`.
 
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
 use frep_core::Model;
 use frep_render::camera::Projection;
 use frep_render::{render_with, Aabb, Camera, ModelCaster, RenderSettings};
+
+/// Counts live heap bytes and their peak.
+struct Counting;
+
+static LIVE: AtomicUsize = AtomicUsize::new(0);
+static PEAK: AtomicUsize = AtomicUsize::new(0);
+
+#[allow(unsafe_code)]
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        // SAFETY: forwarded to the system allocator with the same layout.
+        let p = unsafe { System.alloc(layout) };
+        if !p.is_null() {
+            let now = LIVE.fetch_add(layout.size(), Ordering::Relaxed) + layout.size();
+            PEAK.fetch_max(now, Ordering::Relaxed);
+        }
+        p
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        // SAFETY: `ptr` came from `alloc` above with this layout.
+        unsafe { System.dealloc(ptr, layout) };
+        LIVE.fetch_sub(layout.size(), Ordering::Relaxed);
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
 
 fn bounds_of(src: &str) -> Aabb {
     src.lines()
@@ -66,6 +95,7 @@ fn main() {
         };
         let mut best = Duration::MAX;
         let mut stats = None;
+        let mut peak = 0usize;
         for _ in 0..reps {
             let mut caster = ModelCaster::new(&model, Default::default(), bounds);
             let knob = |k: &str| std::env::var(k).ok().and_then(|v| v.parse::<f64>().ok());
@@ -75,15 +105,19 @@ fn main() {
             if let Some(v) = knob("FREP_LEAF_DEPTH_PX") {
                 caster.leaf_depth_px = v;
             }
+            let base = LIVE.load(Ordering::Relaxed);
+            PEAK.store(base, Ordering::Relaxed);
             let t = Instant::now();
             let img = pool.install(|| render_with(&caster, &s, &cam, None).unwrap());
             best = best.min(t.elapsed());
+            peak = peak.max(PEAK.load(Ordering::Relaxed) - base - img.rgba.len());
             std::hint::black_box(img);
             stats = Some(caster.stats());
         }
         print!(
-            "{file:<24} {size}² {view} {threads}t {:8.1} ms",
-            best.as_secs_f64() * 1e3
+            "{file:<24} {size}² {view} {threads}t {:8.1} ms {:6.2} MiB",
+            best.as_secs_f64() * 1e3,
+            peak as f64 / (1u64 << 20) as f64
         );
         if std::env::var_os("FREP_BENCH_STATS").is_some() {
             print!("  {:?}", stats.unwrap());

@@ -37,7 +37,7 @@ use std::collections::HashMap;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 
-use frep_core::eval::batch::BatchEval;
+use frep_core::eval::batch::{BatchEval, LANES};
 use frep_core::eval::grad::GradEval;
 use frep_core::eval::interval::{Choice, Interval, IntervalEval};
 use frep_core::eval::Inputs;
@@ -221,9 +221,13 @@ impl Evals {
     }
 }
 
-/// Above this many tape nodes held by one [`Scratch`], its evaluator cache
-/// is cleared (between tiles) to bound memory.
-const CACHE_NODES: usize = 1 << 17;
+/// Above about this many bytes of evaluators held by one [`Scratch`], its
+/// cache of shortened tapes is cleared (between tiles) to bound memory.
+const CACHE_BYTES: usize = 6 << 20;
+/// Bytes per tape node of a cached [`Evals`] (the tape, the interval
+/// evaluator's values and choices, the batch evaluator's maps, the gradient
+/// evaluator's values), roughly.
+const NODE_BYTES: usize = 160;
 
 /// (parent evaluator, interval choices, child evaluator).
 type ChildEntry = (u32, Box<[Choice]>, u32);
@@ -238,7 +242,8 @@ struct Scratch {
     /// Hash of (parent, choices) → (parent, choices, child): the child is
     /// the parent itself where simplifying does not shorten the tape.
     children: HashMap<u64, Vec<ChildEntry>>,
-    nodes: usize,
+    /// Estimated bytes of `evals`.
+    bytes: usize,
     attr: Option<BatchEval>,
     rays: Vec<RayInfo>,
     /// Per ray, its depth range while it is live and unresolved, else
@@ -269,7 +274,7 @@ impl Scratch {
         Scratch {
             evals: vec![Evals::new(tape.clone())],
             children: HashMap::new(),
-            nodes: tape.len(),
+            bytes: tape.len() * NODE_BYTES,
             attr: None,
             rays: Vec::new(),
             zr: Vec::new(),
@@ -291,10 +296,11 @@ impl Scratch {
 
     /// Drops the shortened tapes' evaluators when they hold too much.
     fn trim(&mut self) {
-        if self.nodes > CACHE_NODES {
+        if self.bytes > CACHE_BYTES {
             self.evals.truncate(1);
             self.children.clear();
-            self.nodes = self.evals[0].tape.len();
+            self.bytes = self.evals[0].tape.len() * NODE_BYTES
+                + self.evals[0].batch.as_mut().map_or(0, batch_bytes);
         }
     }
 
@@ -303,8 +309,11 @@ impl Scratch {
     fn eval_points(&mut self, e: usize, inputs: &Inputs) {
         self.vals.clear();
         self.vals.resize(self.xs.len(), 0.0);
-        self.evals[e]
-            .batch()
+        let ev = &mut self.evals[e];
+        if ev.batch.is_none() {
+            self.bytes += batch_bytes(ev.batch());
+        }
+        ev.batch()
             .eval(&self.xs, &self.ys, &self.zs, inputs, &mut self.vals);
     }
 
@@ -319,6 +328,12 @@ impl Scratch {
         self.ys.push(p[1]);
         self.zs.push(p[2]);
     }
+}
+
+/// The bytes of a batch evaluator's registers and instructions, roughly.
+fn batch_bytes(b: &mut BatchEval) -> usize {
+    let (instrs, regs) = b.program_size();
+    regs * LANES * 8 + instrs * 16
 }
 
 fn choices_hash(parent: usize, choices: &[Choice]) -> u64 {
@@ -597,7 +612,7 @@ impl<'a> TileCtx<'a> {
         let key: Box<[Choice]> = choices.into();
         let child = if st.after < st.before {
             self.stats.simplified += 1;
-            sc.nodes += t.len();
+            sc.bytes += t.len() * NODE_BYTES;
             sc.evals.push(Evals::new(t));
             sc.evals.len() - 1
         } else {
