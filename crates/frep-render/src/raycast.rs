@@ -242,6 +242,9 @@ struct Scratch {
     /// Hash of (parent, choices) → (parent, choices, child): the child is
     /// the parent itself where simplifying does not shorten the tape.
     children: HashMap<u64, Vec<ChildEntry>>,
+    /// Hash of a shortened tape → the evaluators holding it (different
+    /// boxes often shorten to the same tape).
+    by_tape: HashMap<u64, Vec<u32>>,
     /// Estimated bytes of `evals`.
     bytes: usize,
     attr: Option<BatchEval>,
@@ -274,6 +277,7 @@ impl Scratch {
         Scratch {
             evals: vec![Evals::new(tape.clone())],
             children: HashMap::new(),
+            by_tape: HashMap::new(),
             bytes: tape.len() * NODE_BYTES,
             attr: None,
             rays: Vec::new(),
@@ -299,6 +303,7 @@ impl Scratch {
         if self.bytes > CACHE_BYTES {
             self.evals.truncate(1);
             self.children.clear();
+            self.by_tape.clear();
             self.bytes = self.evals[0].tape.len() * NODE_BYTES
                 + self.evals[0].batch.as_mut().map_or(0, batch_bytes);
         }
@@ -334,6 +339,16 @@ impl Scratch {
 fn batch_bytes(b: &mut BatchEval) -> usize {
     let (instrs, regs) = b.program_size();
     regs * LANES * 8 + instrs * 16
+}
+
+fn tape_hash(t: &Tape) -> u64 {
+    use std::hash::{Hash, Hasher};
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    t.nodes.hash(&mut h);
+    for o in &t.outputs {
+        o.index().hash(&mut h);
+    }
+    h.finish()
 }
 
 fn choices_hash(parent: usize, choices: &[Choice]) -> u64 {
@@ -611,10 +626,22 @@ impl<'a> TileCtx<'a> {
         let (t, st) = simplify_with_stats(&ev.tape, choices, SimplifyMode::Sign);
         let key: Box<[Choice]> = choices.into();
         let child = if st.after < st.before {
-            self.stats.simplified += 1;
-            sc.bytes += t.len() * NODE_BYTES;
-            sc.evals.push(Evals::new(t));
-            sc.evals.len() - 1
+            let th = tape_hash(&t);
+            let same = sc
+                .by_tape
+                .get(&th)
+                .and_then(|b| b.iter().copied().find(|&c| sc.evals[c as usize].tape == t));
+            match same {
+                Some(c) => c as usize,
+                None => {
+                    self.stats.simplified += 1;
+                    sc.bytes += t.len() * NODE_BYTES;
+                    sc.evals.push(Evals::new(t));
+                    let c = sc.evals.len() - 1;
+                    sc.by_tape.entry(th).or_default().push(c as u32);
+                    c
+                }
+            }
         } else {
             e
         };
