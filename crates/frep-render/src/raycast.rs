@@ -17,21 +17,35 @@
 //! 2. **Leaves.** Every unresolved ray of a leaf is sampled at steps of
 //!    [`ModelCaster::step_px`] pixel footprints across the slab, all rays of
 //!    the leaf in one batch ([`BatchEval`], vectorised across rays). The
-//!    first sign change (`f >= 0` inside, NaN outside) is refined by
-//!    bisection (again batched across rays) and a final secant step. A ray
-//!    whose samples show no crossing although the leaf is ambiguous gets an
-//!    interval bisection along its own segment, down to a fraction of a
-//!    pixel, so features thinner than a step are not lost.
-//! 3. **Shading inputs.** Normals are `−∇f/|∇f|` by forward-mode automatic
-//!    differentiation ([`GradEval`]) on the leaf's shortened tape; where the
-//!    gradient vanishes (e.g. `(r² − |p|²)³` on its surface) central
-//!    differences at the pixel footprint are used, and failing those the
-//!    direction back to the eye. Where the solid is cut by the model box the
-//!    normal is the box face's. Attribute colours come from `s[1..3]` when
-//!    the model declares `s[]`.
+//!    first sign change (`f >= 0` inside, NaN outside) is bracketed and
+//!    refined by false position with the Illinois rule (batched across
+//!    rays) to 1/16 of a footprint, then one secant step.
+//! 3. **Thin features.** A ray whose samples show no crossing although the
+//!    leaf is ambiguous can only hide a feature thinner than a step around a
+//!    local maximum of its samples; that segment is checked with one
+//!    interval evaluation and, if it may hold the surface, sampled at the
+//!    midpoints of cells of 1/2^[`ModelCaster::fallback_depth`] of a step or
+//!    footprint, whichever is smaller (the cells an interval bisection would
+//!    end with), batched. A maximum at the *end* of a slab is not searched at
+//!    once: the ray remembers its last samples, and when its next slab
+//!    follows on and the field keeps rising, there is nothing to search;
+//!    otherwise (a gap, a fall, an inside box with a gap, the end of the
+//!    tile) the segment is searched first, with the evaluator it was
+//!    sampled with, before anything behind it is used.
+//! 4. **Shading inputs.** Normals are `−∇f/|∇f|` by central differences at
+//!    half a pixel footprint, six points per hit, all hits of a leaf in one
+//!    batch on the leaf's shortened tape; where they vanish, forward-mode
+//!    differentiation ([`GradEval`]), then wider differences, and failing
+//!    those the direction back to the eye. Where the solid is cut by the
+//!    model box the normal is the box face's. Attribute colours come from
+//!    `s[1..3]` when the model declares `s[]`.
 //!
-//! Evaluators are built per tile and per shortened tape, never per pixel;
-//! a tile holds its hits and a few batches of sample coordinates.
+//! Evaluators are never built per pixel: each worker thread keeps (from
+//! tile to tile, in a pool of the caster) the root tape's evaluators and
+//! those of every shortened tape met so far, keyed by the interval choices
+//! that produced them (a tape is simplified and compiled once, and boxes that
+//! shorten to the same tape share it), bounded to a few MiB. Rays, frustum
+//! corners and pixel footprints use per-image constants ([`RayMaker`]).
 
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -73,7 +87,8 @@ pub struct CastStats {
     pub point_evals: u64,
     /// Gradient evaluations (normals).
     pub grad_evals: u64,
-    /// Tape simplifications that shortened the tape.
+    /// Shortened tapes built (each distinct one once per worker thread:
+    /// evaluators are cached from tile to tile).
     pub simplified: u64,
 }
 
@@ -92,10 +107,12 @@ pub struct ModelCaster {
     inputs: Inputs,
     bounds: Aabb,
     cancel: Option<Arc<AtomicBool>>,
-    /// Sampling step along rays in leaves, in pixel footprints (default 1).
+    /// Sampling step along rays in leaves, in pixel footprints (default 2;
+    /// thinner features are found by the thin-feature search).
     pub step_px: f64,
-    /// Depth of the per-ray interval bisection below one sampling step for
-    /// rays whose samples miss in an ambiguous leaf (default 3: 1/8 step).
+    /// Thin-feature searches of rays whose samples miss in an ambiguous
+    /// leaf sample cells of `1/2^fallback_depth` of a step or of a pixel
+    /// footprint, whichever is smaller (default 3: 1/8).
     pub fallback_depth: u32,
     /// Leaves are sampled once their depth slab is at most this many pixel
     /// footprints deep (deeper ones are split by interval bisection first).
