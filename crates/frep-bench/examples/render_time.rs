@@ -105,6 +105,9 @@ fn main() {
             if let Some(v) = knob("FREP_LEAF_DEPTH_PX") {
                 caster.leaf_depth_px = v;
             }
+            if let Some(v) = knob("FREP_FALLBACK_DEPTH") {
+                caster.fallback_depth = v as u32;
+            }
             let base = LIVE.load(Ordering::Relaxed);
             PEAK.store(base, Ordering::Relaxed);
             let t = Instant::now();
