@@ -25,7 +25,11 @@
 //! - [`Method::Watertight`]: the marching-cubes polygons, vertices shared by edge.
 //! - [`Method::DualContouring`]: one vertex per polygon (component) per cube, placed by a QEF
 //!   of its crossings and gradient normals (sharp features), one quad per crossing edge: the
-//!   dual of the marching-cubes mesh, hence a closed 2-manifold as well.
+//!   dual of the marching-cubes mesh, hence a closed 2-manifold as well. A polygon that
+//!   crosses one cube face twice (walls about a cell thick) is first split in two by a chord
+//!   ([`table::DualCase`]): otherwise two such polygons of neighbouring cubes would share two
+//!   segments and their vertices a doubled (non-manifold) edge. The edges at a chord's ends
+//!   get a fan around their crossing instead of a quad.
 //! - [`Method::MarchingCubes`]: the classic baseline: uniform grid, no pruning, no
 //!   simplification, linear interpolation, normals from the triangles.
 
@@ -933,19 +937,21 @@ impl Ctx<'_> {
             }
             return Ok(out);
         }
-        // Dual contouring: one vertex per polygon, one quad per crossing lower edge.
+        // Dual contouring: one vertex per polygon (split where a polygon crosses a face
+        // twice, see `DualCase`), one quad per crossing lower edge.
+        let dual = table::dual_cases();
         let mut pts = Vec::new();
         let mut ns = Vec::new();
         let mut dc_pos = Vec::new();
         for (q, mask, local) in &cubes {
-            let case = &table[*mask];
+            let case = &dual[*mask];
             let lo = g.point(*q);
             let hi = g.point(add(*q, [1, 1, 1]));
-            for k in 0..case.polygons() {
+            for (k, poly) in case.polygons.iter().enumerate() {
                 pts.clear();
                 ns.clear();
                 let mut avg = [0.0; 3];
-                for &ei in case.polygon(k) {
+                for &ei in poly {
                     let v = local[ei as usize] as usize;
                     pts.push(pos[v]);
                     ns.push(nrm[v]);
@@ -955,13 +961,14 @@ impl Ctx<'_> {
                 }
                 let x = qef::solve(&pts, &ns, lo, hi);
                 dc_pos.push(x);
-                out.keys.push(point_key(*q) << 2 | k as u64);
+                out.keys.push(point_key(*q) << 3 | k as u64);
                 out.positions.push(x.map(|c| c as f32));
                 out.normals.push(norm(avg).map(|c| c as f32));
             }
             for axis in 0..3 {
                 let c1 = 1usize << axis;
-                if case.component[edge_between(0, c1) as usize] == 255 {
+                let e0 = edge_between(0, c1) as usize;
+                if case.at[e0][0] == 255 {
                     continue;
                 }
                 let (bx, cx) = ((axis + 1) % 3, (axis + 2) % 3);
@@ -969,18 +976,47 @@ impl Ctx<'_> {
                 eb[bx] = 1;
                 let mut ec = [0; 3];
                 ec[cx] = 1;
-                let mut quad = [0u64; 4];
+                // The cubes around the edge in order; in each, the polygon holding the
+                // segment on the face shared with the previous cube, then (when the edge
+                // ends a chord there) the one on the face shared with the next.
+                let mut ring: Vec<u64> = Vec::with_capacity(4);
                 for (slot, d) in [[0, 0, 0], eb, add(eb, ec), ec].iter().enumerate() {
                     let qn = [q[0] - d[0], q[1] - d[1], q[2] - d[2]];
                     let m = if slot == 0 { *mask } else { lat.case_at(qn) };
                     let lo_c = (d[0] | d[1] << 1 | d[2] << 2) as usize;
-                    let comp = table[m].component[edge_between(lo_c, lo_c | c1) as usize];
-                    quad[slot] = point_key(qn) << 2 | comp as u64;
+                    let e = edge_between(lo_c, lo_c | c1);
+                    let (prev_ax, next_ax) = if slot % 2 == 0 { (cx, bx) } else { (bx, cx) };
+                    let ef = table::edge_faces(e);
+                    let id = |ax: usize| {
+                        let f = (2 * ax + d[ax] as usize) as u8;
+                        let s = usize::from(ef[1] == f);
+                        dual[m].at[e as usize][s] as u64
+                    };
+                    let (a, b) = (id(prev_ax), id(next_ax));
+                    ring.push(point_key(qn) << 3 | a);
+                    if b != a {
+                        ring.push(point_key(qn) << 3 | b);
+                    }
                 }
                 if mask & 1 == 0 {
-                    quad.reverse();
+                    ring.reverse();
                 }
-                out.quads.push(quad);
+                if let [a, b, c, d] = ring[..] {
+                    out.quads.push([a, b, c, d]);
+                    continue;
+                }
+                // A chord ends here: a fan around the edge's crossing (a new vertex, so that
+                // no new edge can duplicate an existing one).
+                let v = local[e0] as usize;
+                let ck = 1 << 63 | point_key(*q) << 2 | axis as u64;
+                dc_pos.push(pos[v]);
+                out.keys.push(ck);
+                out.positions.push(pos[v].map(|c| c as f32));
+                out.normals.push(nrm[v].map(|c| c as f32));
+                for j in 0..ring.len() {
+                    out.triangles
+                        .push([ck, ring[j], ring[(j + 1) % ring.len()]]);
+                }
             }
         }
         out.colors = self.colors_at(brick, &dc_pos);
