@@ -29,11 +29,15 @@
 //!   crosses one cube face twice (walls about a cell thick) is first split in two by a chord
 //!   ([`table::DualCase`]): otherwise two such polygons of neighbouring cubes would share two
 //!   segments and their vertices a doubled (non-manifold) edge. The edges at a chord's ends
-//!   get a fan around their crossing instead of a quad.
+//!   get a fan around their crossing instead of a quad. The QEF minimizer may leave its cube
+//!   by half a cell (a union's crease often runs through cubes whose samples all lie on one
+//!   side, next to the cubes that see both sheets), then a few Newton steps move the vertex
+//!   onto the surface (a vertex on a crease does not move).
 //! - [`Method::MarchingCubes`]: the classic baseline: uniform grid, no pruning, no
 //!   simplification, linear interpolation, normals from the triangles.
 
 pub mod bounds;
+pub mod error;
 mod qef;
 pub mod table;
 
@@ -220,7 +224,11 @@ const MAX_BRICKS: i32 = 128;
 /// Vertices stay this fraction of an edge away from its ends (no coincident vertices).
 const EDGE_MARGIN: f64 = 0.01;
 /// Regula falsi steps on each crossing edge.
-const ROOT_STEPS: usize = 5;
+const ROOT_STEPS: usize = 8;
+/// How far (in cells) a dual-contouring vertex may leave its cube.
+const DC_SLACK: f64 = 0.5;
+/// Newton steps that move a dual-contouring vertex onto the surface.
+const SNAP_STEPS: usize = 3;
 
 /// The sampling lattice.
 #[derive(Clone, Debug)]
@@ -770,6 +778,32 @@ impl Ctx<'_> {
         (pos, nrm)
     }
 
+    /// Moves a dual-contouring vertex onto the surface by Newton steps along the gradient,
+    /// staying in the cube `[lo, hi]`: where the QEF minimizer had to be clamped (a crease that
+    /// leaves the cube) or the tangent planes disagree (curvature), the vertex would
+    /// otherwise sit off the surface. On a crease `f ≈ 0` already and nothing moves.
+    fn snap(&self, ge: &mut GradEval, x: [f64; 3], lo: [f64; 3], hi: [f64; 3]) -> [f64; 3] {
+        let mut x = x;
+        for _ in 0..SNAP_STEPS {
+            let g = ge.eval(x[0], x[1], x[2], self.inputs);
+            let len2 = g.dx * g.dx + g.dy * g.dy + g.dz * g.dz;
+            if !(len2 > 0.0 && len2.is_finite() && g.v.is_finite()) || g.v == 0.0 {
+                break;
+            }
+            let s = g.v / len2;
+            let y = [
+                (x[0] - s * g.dx).clamp(lo[0], hi[0]),
+                (x[1] - s * g.dy).clamp(lo[1], hi[1]),
+                (x[2] - s * g.dz).clamp(lo[2], hi[2]),
+            ];
+            if y == x {
+                break;
+            }
+            x = y;
+        }
+        x
+    }
+
     fn colors_at(&self, brick: Option<&Brick>, pts: &[[f64; 3]]) -> Vec<[f32; 3]> {
         let Some(brick) = brick.filter(|_| self.colors > 0 && !pts.is_empty()) else {
             return Vec::new();
@@ -940,13 +974,23 @@ impl Ctx<'_> {
         // Dual contouring: one vertex per polygon (split where a polygon crosses a face
         // twice, see `DualCase`), one quad per crossing lower edge.
         let dual = table::dual_cases();
+        let mut ge = brick.map(|b| GradEval::new(&b.tape));
         let mut pts = Vec::new();
         let mut ns = Vec::new();
         let mut dc_pos = Vec::new();
         for (q, mask, local) in &cubes {
             let case = &dual[*mask];
-            let lo = g.point(*q);
-            let hi = g.point(add(*q, [1, 1, 1]));
+            // Vertices may leave their cube by a fraction of a cell: a crease (a groove of a
+            // union) can run just outside the cubes whose crossings see both of its sheets,
+            // through cubes whose samples all lie on one side.
+            // Not on the box: cap vertices stay on its faces.
+            let slack = if g.is_virtual(*q) || g.is_virtual(add(*q, [1, 1, 1])) {
+                0.0
+            } else {
+                DC_SLACK
+            };
+            let lo = [0, 1, 2].map(|k| g.coord(k, q[k]) - slack * g.h[k]);
+            let hi = [0, 1, 2].map(|k| g.coord(k, q[k] + 1) + slack * g.h[k]);
             for (k, poly) in case.polygons.iter().enumerate() {
                 pts.clear();
                 ns.clear();
@@ -959,7 +1003,10 @@ impl Ctx<'_> {
                         avg[c] += nrm[v][c];
                     }
                 }
-                let x = qef::solve(&pts, &ns, lo, hi);
+                let mut x = qef::solve(&pts, &ns, lo, hi);
+                if let Some(ge) = ge.as_mut() {
+                    x = self.snap(ge, x, lo, hi);
+                }
                 dc_pos.push(x);
                 out.keys.push(point_key(*q) << 3 | k as u64);
                 out.positions.push(x.map(|c| c as f32));
@@ -1228,10 +1275,46 @@ fn run(
     #[cfg(feature = "export")]
     if let Some(frac) = settings.simplify {
         let cell = grid.h.iter().fold(0.0f64, |a, &b| a.max(b));
-        simplify_mesh(&mut mesh, (frac * cell) as f32);
+        simplify_verified(
+            &mut mesh,
+            (frac * cell) as f32,
+            settings.method == Method::Watertight,
+        );
     }
     progress.done.store(progress.estimated(), Ordering::Relaxed);
     Ok(mesh)
+}
+
+/// [`simplify_mesh`], then a check that the result keeps what the input had: closed,
+/// 2-manifold, consistently oriented, no degenerate triangles, the same components and Euler
+/// characteristic (genus), and, when `intersections`, no self-intersections. A result that
+/// fails is dropped and the simplification retried with half the error (three tries); the
+/// mesh stays unsimplified when every try fails. Returns the error bound that was kept.
+#[cfg(feature = "export")]
+pub fn simplify_verified(mesh: &mut Mesh, error: f32, intersections: bool) -> Option<f32> {
+    let before = mesh.topology();
+    if !(before.is_closed_manifold() && before.is_consistently_oriented()) {
+        simplify_mesh(mesh, error);
+        return Some(error);
+    }
+    let mut e = error;
+    for _ in 0..3 {
+        let mut m = mesh.clone();
+        simplify_mesh(&mut m, e);
+        let t = m.topology();
+        let ok = t.is_closed_manifold()
+            && t.is_consistently_oriented()
+            && t.degenerate_triangles == 0
+            && t.components == before.components
+            && t.euler_characteristic() == before.euler_characteristic()
+            && (!intersections || m.self_intersections(1) == 0);
+        if ok {
+            *mesh = m;
+            return Some(e);
+        }
+        e *= 0.5;
+    }
+    None
 }
 
 /// Error-bounded edge-collapse simplification (meshopt), absolute error `error`.
