@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Meshing benchmark: ours (watertight, +simplification, dual contouring, uniform MC
-# baseline) side by side with fidget 0.5 on M1-M4 and the examples, at depths 6, 7, 8.
+# Meshing benchmark: ours (watertight, dual contouring, uniform MC baseline, and our smallest
+# verified simplification at fidget's symmetric Hausdorff error) side by side with fidget 0.5
+# on M1-M4 and the examples (via to_fidget), same box and depth, at depths 6, 7, 8.
 # Prints a Markdown table. Env: FREP_BENCH_REPS (3), FREP_BENCH_DEPTHS (6,7,8),
 # FREP_BENCH_MODELS (substring filter).
 set -euo pipefail

@@ -1,28 +1,35 @@
-//! Meshing, side by side with fidget 0.5: time, triangles, Hausdorff error and peak memory
-//! per model and depth, printed as a table (no criterion: one table is what we compare).
+//! Meshing, side by side with fidget 0.5: time, triangles, symmetric Hausdorff error and peak
+//! memory per model and depth, printed as a table (no criterion: one table is what we compare).
 //!
 //! Run: `scripts/bench-mesh.sh` (= `cargo bench -p frep-bench --features anchors --bench
 //! mesh`). `FREP_BENCH_REPS` (default 3) sets the repetitions; the minimum time is kept.
-//! `FREP_BENCH_DEPTHS` (default `6,7,8`) the depths. fidget meshes M1–M4 (the anchors) with
-//! its faster evaluator per model (JIT, but the VM for M3, whose trigonometry the JIT calls
-//! lane by lane; see shared/notes/rendering-and-meshing.md); the examples are ours only.
+//! `FREP_BENCH_DEPTHS` (default `6,7,8`) the depths, `FREP_BENCH_MODELS` a name filter.
+//! fidget meshes M1–M4 from the hand-written anchor trees (JIT, but the VM for M3, whose
+//! trigonometry the JIT calls lane by lane; see shared/notes/rendering-and-meshing.md) and the
+//! examples from `to_fidget`'s translation of the same tape (JIT), on the same box (the cube
+//! of the box's longest side around its centre, so the same cell size) and depth.
 //! Both use rayon's global pool (all cores of the machine).
 //!
-//! "wt+simpl": watertight, then meshopt's error-bounded simplification with a bound of half
-//! fidget's measured error (M1–M4), else 0.1 cell: the triangle count at about equal error.
+//! H: [`SurfaceSamples`]' symmetric Hausdorff estimate in cells (mesh points projected onto
+//! the surface by Newton steps; dense surface points, the lattice crossings at depth + 1, to
+//! the nearest triangle), points within one cell of the box faces left out (our caps lie on
+//! the box, fidget leaves the mesh open there).
 //!
-//! Hausdorff: the largest `|f| / |∇f|` (first-order distance to the surface) over the
-//! vertices and triangle centroids, leaving out points within one cell of the box faces (our
-//! caps lie on the box, fidget leaves the mesh open there). Memory: the peak of live heap
-//! bytes during the run (a counting global allocator), per output triangle.
+//! "reduced": our smallest mesh at fidget's error: watertight or dual contouring, simplified
+//! (meshopt, verified closed / manifold / oriented / same genus, and for watertight free of
+//! self-intersections; see `simplify_verified`) with the largest bound of 0.5, 0.25, 0.12,
+//! 0.06, 0.03, 0.015 cell whose measured H is at most fidget's H (or ours unsimplified when none is);
+//! its time is the meshing plus the simplification. Memory: the peak of live heap bytes during
+//! the run (a counting global allocator), per output triangle.
 #![allow(unsafe_code)]
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
-use frep_core::eval::grad::GradEval;
 use frep_core::{Inputs, Model};
+use frep_mesh::poly::error::SurfaceSamples;
+use frep_mesh::poly::simplify_verified;
 use frep_mesh::{polygonize, CancelToken, Mesh, MeshSettings, Method, Progress, Resolution};
 
 struct Counting;
@@ -101,32 +108,26 @@ fn bounds_line(src: &str) -> [f64; 6] {
         .unwrap_or([-1.0, -1.0, -1.0, 1.0, 1.0, 1.0])
 }
 
-fn hausdorff(model: &Model, bounds: [f64; 6], cell: f64, positions: &Mesh) -> f64 {
-    let tape = model.tape();
-    let mut ge = GradEval::new(&tape);
-    let inputs = Inputs::default();
-    let near_box =
-        |p: [f64; 3]| (0..3).any(|k| p[k] < bounds[k] + cell || p[k] > bounds[k + 3] - cell);
-    let ge = std::cell::RefCell::new(&mut ge);
-    positions.max_distance_to(|p| {
-        if near_box(p) {
-            return 0.0;
-        }
-        let g = ge.borrow_mut().eval(p[0], p[1], p[2], &inputs);
-        let len = (g.dx * g.dx + g.dy * g.dy + g.dz * g.dz).sqrt();
-        if len > 0.0 {
-            g.v.abs() / len
-        } else {
-            0.0
-        }
-    })
-}
-
-fn fidget_mesh(tree: &fidget::context::Tree, jit: bool, depth: u8) -> Mesh {
+/// fidget's mesh of `tree` in the cube of `bounds`' longest side around its centre.
+fn fidget_mesh(tree: &fidget::context::Tree, jit: bool, depth: u8, bounds: [f64; 6]) -> Mesh {
     let settings = fidget::mesh::Settings {
         depth,
         ..Default::default()
     };
+    let c = [0, 1, 2].map(|k| 0.5 * (bounds[k] + bounds[k + 3]));
+    let half = 0.5
+        * (0..3)
+            .map(|k| bounds[k + 3] - bounds[k])
+            .fold(0.0f64, f64::max);
+    let identity = c == [0.0; 3] && half == 1.0;
+    let tree = if identity {
+        tree.clone()
+    } else {
+        let (x, y, z) = fidget::context::Tree::axes();
+        let m = |t: fidget::context::Tree, k: usize| t * half as f32 + c[k] as f32;
+        tree.remap_xyz(m(x, 0), m(y, 1), m(z, 2))
+    };
+    let tree = &tree;
     let m = if jit {
         let shape = fidget::jit::JitShape::from(tree.clone())
             .try_into()
@@ -143,7 +144,20 @@ fn fidget_mesh(tree: &fidget::context::Tree, jit: bool, depth: u8) -> Mesh {
             .walk_dual()
     };
     Mesh {
-        positions: m.vertices.iter().map(|v| [v.x, v.y, v.z]).collect(),
+        positions: m
+            .vertices
+            .iter()
+            .map(|v| {
+                [v.x, v.y, v.z]
+                    .map(f64::from)
+                    .iter()
+                    .enumerate()
+                    .map(|(k, &u)| (c[k] + half * u) as f32)
+                    .collect::<Vec<_>>()
+                    .try_into()
+                    .expect("3")
+            })
+            .collect(),
         triangles: m
             .triangles
             .iter()
@@ -180,11 +194,17 @@ fn main() {
             .and_then(|s| s.to_str())
             .unwrap_or("?")
             .to_string();
-        let fidget = ["m1", "m2", "m3", "m4"]
+        let model = Model::compile(&src).expect("compiles");
+        let anchor = ["m1", "m2", "m3", "m4"]
             .iter()
-            .position(|m| stem.starts_with(m))
-            .map(|i| (anchors[i].tree.clone(), i != 2));
-        let name = match &fidget {
+            .position(|m| stem.starts_with(m));
+        let fidget = match anchor {
+            Some(i) => Some((anchors[i].tree.clone(), i != 2)),
+            None => frep_bench::to_fidget::tape_to_tree(&model.tape())
+                .ok()
+                .map(|t| (t, true)),
+        };
+        let name = match anchor {
             Some(_) => format!("{} {}", stem[..2].to_uppercase(), &stem[3..]),
             None => stem,
         };
@@ -193,86 +213,122 @@ fn main() {
         }
         cases.push(Case {
             name,
-            model: Model::compile(&src).expect("compiles"),
+            model,
             bounds: bounds_line(&src),
             fidget,
         });
     }
-    cases.sort_by_key(|c| (c.fidget.is_none(), c.name.clone()));
+    cases.sort_by_key(|c| (!c.name.starts_with('M'), c.name.clone()));
     println!(
-        "threads: {}, reps: {reps} (min time), times in ms, tris in thousands, H = Hausdorff / cell, mem = peak heap bytes / triangle",
+        "threads: {}, reps: {reps} (min time), times in ms, tris in thousands, H = symmetric Hausdorff / cell, B/tri = peak heap bytes / triangle",
         std::thread::available_parallelism().map_or(1, |n| n.get())
     );
     println!(
-        "| model | d | ours wt ms | tris k | H | B/tri | wt+simpl ms | tris k | H | ours dc ms | tris k | H | uniform mc ms | fidget ms | tris k | H | B/tri | fidget/ours |"
+        "| model | d | ours wt ms | tris k | H | B/tri | ours dc ms | tris k | H | uniform mc ms | fidget ms | tris k | H | B/tri | reduced: ours | ms | tris k | H | fidget / ours time | reduced / fidget tris |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    let inputs = Inputs::default();
     for c in &cases {
-        let mut prev: Option<f64> = None;
         for &d in &depths {
             let ext = (0..3)
                 .map(|k| c.bounds[k + 3] - c.bounds[k])
                 .fold(0.0f64, f64::max);
             let cell = ext / (1u64 << d) as f64;
-            let settings = |method, simplify| MeshSettings {
+            let samples = SurfaceSamples::new(&c.model, &inputs, c.bounds, d, cell);
+            let h = |m: &Mesh| samples.error(m).hausdorff() / cell;
+            let settings = |method| MeshSettings {
                 bounds: c.bounds,
                 resolution: Resolution::Depth(d),
                 method,
-                simplify,
                 ..Default::default()
             };
             let run = |s: &MeshSettings| {
                 polygonize(&c.model, s, &Progress::new(), &CancelToken::new()).expect("mesh")
             };
-            let wt_s = settings(Method::Watertight, None);
+            let wt_s = settings(Method::Watertight);
             let (t_wt, mem_wt, m_wt) = measure(reps, || run(&wt_s));
-            let h_wt = hausdorff(&c.model, c.bounds, cell, &m_wt) / cell;
-            let dc_s = settings(Method::DualContouring, None);
+            let h_wt = h(&m_wt);
+            let dc_s = settings(Method::DualContouring);
             let (t_dc, _, m_dc) = measure(reps, || run(&dc_s));
-            let h_dc = hausdorff(&c.model, c.bounds, cell, &m_dc) / cell;
+            let h_dc = h(&m_dc);
             let mc = if d <= 7 {
-                let mc_s = settings(Method::MarchingCubes, None);
+                let mc_s = settings(Method::MarchingCubes);
                 format!("{:.0}", measure(1, || run(&mc_s)).0 * 1e3)
             } else {
                 "–".into()
             };
-            let mut fid_h = None;
-            let fid = match &c.fidget {
+            let ours_best = t_wt.min(t_dc);
+            let mut fid = None;
+            let fid_cols = match &c.fidget {
                 Some((tree, jit)) => {
                     let r = if d >= 8 { 1 } else { reps };
-                    let (t, mem, m) = measure(r, || fidget_mesh(tree, *jit, d));
-                    let h = hausdorff(&c.model, c.bounds, cell, &m) / cell;
-                    fid_h = Some(h);
+                    let (t, mem, m) = measure(r, || fidget_mesh(tree, *jit, d, c.bounds));
+                    let hf = h(&m);
+                    fid = Some((t, m.triangles.len(), hf));
                     format!(
-                        "{:.0} ({}) | {:.0} | {:.2} | {:.0} | {:.1}×",
+                        "{:.0} ({}) | {:.0} | {:.2} | {:.0}",
                         t * 1e3,
                         if *jit { "jit" } else { "vm" },
                         m.triangles.len() as f64 / 1e3,
-                        h,
+                        hf,
                         mem as f64 / m.triangles.len().max(1) as f64,
-                        t / t_wt
                     )
                 }
-                None => "– | – | – | – | –".into(),
+                None => "– | – | – | –".into(),
             };
-            // Simplified towards fidget's error (meshopt's bound is about half the measured
-            // distance), else to a tenth of a cell.
-            let target = fid_h.map_or(0.1, |h| (0.5 * h).max(0.02));
-            let si_s = settings(Method::Watertight, Some(target));
-            let (t_si, _, m_si) = measure(reps, || run(&si_s));
-            let h_si = hausdorff(&c.model, c.bounds, cell, &m_si) / cell;
-            let growth = prev.map_or(String::new(), |p| format!(" (×{:.1})", t_wt / p));
-            prev = Some(t_wt);
+            // The smallest verified simplification at fidget's error (else ours unsimplified).
+            let target = fid.map_or(h_wt.max(h_dc), |f| f.2);
+            let mut best: Option<(String, f64, usize, f64)> = None;
+            for (label, base, t_base, h_base) in
+                [("dc", &m_dc, t_dc, h_dc), ("wt", &m_wt, t_wt, h_wt)]
+            {
+                if h_base <= target && best.as_ref().is_none_or(|b| base.triangles.len() < b.2) {
+                    best = Some((label.to_string(), t_base, base.triangles.len(), h_base));
+                }
+                for frac in [0.5, 0.25, 0.12, 0.06, 0.03, 0.015] {
+                    let mut m = base.clone();
+                    let t0 = Instant::now();
+                    let kept = simplify_verified(&mut m, (frac * cell) as f32, label == "wt");
+                    let ts = t0.elapsed().as_secs_f64();
+                    let Some(e) = kept else { continue };
+                    let hs = h(&m);
+                    if hs <= target {
+                        if best.as_ref().is_none_or(|b| m.triangles.len() < b.2) {
+                            best = Some((
+                                format!("{label}+s{:.2}", e as f64 / cell),
+                                t_base + ts,
+                                m.triangles.len(),
+                                hs,
+                            ));
+                        }
+                        break;
+                    }
+                }
+            }
+            let red = match (&best, fid) {
+                (Some((l, t, n, hr)), f) => format!(
+                    "{l} | {:.0} | {:.0} | {:.2} | {} | {}",
+                    t * 1e3,
+                    *n as f64 / 1e3,
+                    hr,
+                    f.map_or("–".into(), |f| format!("{:.1}×", f.0 / ours_best)),
+                    f.map_or("–".into(), |f| format!(
+                        "{:.2}",
+                        *n as f64 / f.1.max(1) as f64
+                    )),
+                ),
+                (None, f) => format!(
+                    "none ≤ fidget's H | – | – | – | {} | –",
+                    f.map_or("–".into(), |f| format!("{:.1}×", f.0 / ours_best)),
+                ),
+            };
             println!(
-                "| {} | {d} | {:.0}{growth} | {:.0} | {:.2} | {:.0} | {:.0} | {:.0} | {:.2} | {:.0} | {:.0} | {:.2} | {mc} | {fid} |",
+                "| {} | {d} | {:.0} | {:.0} | {:.2} | {:.0} | {:.0} | {:.0} | {:.2} | {mc} | {fid_cols} | {red} |",
                 c.name,
                 t_wt * 1e3,
                 m_wt.triangles.len() as f64 / 1e3,
                 h_wt,
                 mem_wt as f64 / m_wt.triangles.len().max(1) as f64,
-                t_si * 1e3,
-                m_si.triangles.len() as f64 / 1e3,
-                h_si,
                 t_dc * 1e3,
                 m_dc.triangles.len() as f64 / 1e3,
                 h_dc,

@@ -39,37 +39,7 @@ enum Command {
     /// Polygonize a model and write the mesh (.stl, .obj, .ply, .glb or .3mf); prints
     /// triangles, vertices and time. Box: --bounds, else the file's `-- bounds:` comment,
     /// else the detected extent, else hfp's ±10.
-    Mesh {
-        /// The HyperFun model (.hf).
-        model: PathBuf,
-        /// Output file; the extension picks the format.
-        #[arg(short, long)]
-        output: PathBuf,
-        /// Bounding box in hfp's -b forms: v | min,max | xs,ys,zs | x0,y0,z0,x1,y1,z1.
-        #[arg(short, long, allow_hyphen_values = true)]
-        bounds: Option<String>,
-        /// Octree depth: 2^depth cells along the longest side of the box (default 7).
-        #[arg(short, long)]
-        depth: Option<u8>,
-        /// hfp-style grid instead of --depth: cells per axis, n or nx,ny,nz (2..=250).
-        #[arg(short, long)]
-        grid: Option<String>,
-        /// dc (dual contouring, sharp features), watertight, or mc (uniform baseline).
-        #[arg(short, long, default_value = "watertight")]
-        method: String,
-        /// The body to polygonize (default: my_model, else the first).
-        #[arg(long)]
-        body: Option<String>,
-        /// Parameters `a[1], a[2], ...` as a comma-separated list.
-        #[arg(long, allow_hyphen_values = true)]
-        param: Option<String>,
-        /// Error-bounded simplification after meshing, as a fraction of the cell size.
-        #[arg(long)]
-        simplify: Option<f64>,
-        /// No progress bar or box report.
-        #[arg(short, long)]
-        quiet: bool,
-    },
+    Mesh(mesh::Options),
     /// Check a model: print its diagnostics, or a summary.
     Check {
         /// The HyperFun model (.hf).
@@ -138,29 +108,7 @@ fn main() -> ExitCode {
         } => glsl::run(&model, body, &output, bounds, param),
         Command::Render(args) => render::render(args),
         Command::Slices(args) => render::slices(args),
-        Command::Mesh {
-            model,
-            output,
-            bounds,
-            depth,
-            grid,
-            method,
-            body,
-            param,
-            simplify,
-            quiet,
-        } => mesh::run(mesh::Options {
-            model,
-            output,
-            bounds,
-            depth,
-            grid,
-            method,
-            body,
-            params: param,
-            simplify,
-            quiet,
-        }),
+        Command::Mesh(options) => mesh::run(options),
     };
     match result {
         Ok(code) => code,

@@ -19,16 +19,36 @@ use frep_mesh::poly::bounds;
 use frep_mesh::{polygonize, CancelToken, MeshSettings, Method, Progress, Resolution};
 
 /// Options of `frep mesh`.
+#[derive(clap::Args)]
 pub struct Options {
+    /// The HyperFun model (.hf).
     pub model: PathBuf,
+    /// Output file; the extension picks the format.
+    #[arg(short, long)]
     pub output: PathBuf,
+    /// Bounding box in hfp's -b forms: v | min,max | xs,ys,zs | x0,y0,z0,x1,y1,z1.
+    #[arg(short, long, allow_hyphen_values = true)]
     pub bounds: Option<String>,
+    /// Octree depth: 2^depth cells along the longest side of the box (default 7).
+    #[arg(short, long)]
     pub depth: Option<u8>,
+    /// hfp-style grid instead of --depth: cells per axis, n or nx,ny,nz (2..=250).
+    #[arg(short, long)]
     pub grid: Option<String>,
+    /// dc (dual contouring, sharp features), watertight, or mc (uniform baseline).
+    #[arg(short, long, default_value = "watertight")]
     pub method: String,
+    /// The body to polygonize (default: my_model, else the first).
+    #[arg(long)]
     pub body: Option<String>,
+    /// Parameters `a[1], a[2], ...` as a comma-separated list.
+    #[arg(long = "param", allow_hyphen_values = true)]
     pub params: Option<String>,
+    /// Error-bounded simplification after meshing, as a fraction of the cell size.
+    #[arg(long)]
     pub simplify: Option<f64>,
+    /// No progress bar or box report.
+    #[arg(short, long)]
     pub quiet: bool,
 }
 

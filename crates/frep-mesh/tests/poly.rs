@@ -152,18 +152,6 @@ fn examples_are_closed() {
             let mesh = mesh(&m, b, 5, method);
             let label = format!("{} {method:?}", p.display());
             assert!(!mesh.triangles.is_empty(), "{label}: empty");
-            if method == Method::DualContouring && p.ends_with("sake_pot.hf") {
-                // Known gap: walls about one cell thick make a dual-contouring vertex meet a
-                // neighbour's across two segments of one ambiguous face (a doubled edge).
-                // The mesh is still closed and consistently oriented.
-                let t = mesh.topology();
-                assert_eq!(
-                    (t.boundary_edges, t.inconsistent_edges),
-                    (0, 0),
-                    "{label}: {t:?}"
-                );
-                continue;
-            }
             check_closed(&label, &mesh, method == Method::Watertight);
         }
     }
@@ -464,4 +452,76 @@ fn nearly_coplanar_neighbours_do_not_intersect() {
         ..Default::default()
     };
     assert_eq!(m.self_intersections(1), 0);
+}
+
+#[test]
+fn surface_error_measures_both_directions() {
+    use frep_mesh::poly::error::SurfaceSamples;
+    let (m, b) = example("m1_sphere.hf");
+    let h = 2.0 / 32.0;
+    let samples = SurfaceSamples::new(&m, &Inputs::default(), b, 5, h);
+    assert!(samples.points.len() > 1000);
+    let mesh = mesh(&m, b, 5, Method::Watertight);
+    let e = samples.error(&mesh);
+    assert!(e.hausdorff() < 0.1 * h, "{e:?}");
+    // A mesh scaled by 1.02 is 0.016 off the sphere of radius 0.8, both ways.
+    let mut big = mesh.clone();
+    for p in &mut big.positions {
+        *p = p.map(|c| c * 1.02);
+    }
+    let e = samples.error(&big);
+    assert!((e.mesh_to_surface - 0.016).abs() < 0.002, "{e:?}");
+    assert!((e.surface_to_mesh - 0.016).abs() < 0.002, "{e:?}");
+    // Half the sphere gone: surface points far from the mesh.
+    let mut half = mesh.clone();
+    half.triangles
+        .retain(|t| mesh.positions[t[0] as usize][2] > 0.0);
+    let e = samples.error(&half);
+    assert!(
+        e.mesh_to_surface < 0.1 * h && e.surface_to_mesh > 2.0 * h,
+        "{e:?}"
+    );
+}
+
+#[test]
+fn dual_contouring_vertices_lie_on_creases() {
+    // R-union of ten spheres: every crease is sharp (the R-union's zero set is the union's).
+    use frep_mesh::poly::error::SurfaceSamples;
+    let (m, b) = example("m4_rblend10.hf");
+    let h = 2.0 / 64.0;
+    let samples = SurfaceSamples::new(&m, &Inputs::default(), b, 6, h);
+    let dc = samples.error(&mesh(&m, b, 6, Method::DualContouring));
+    let wt = samples.error(&mesh(&m, b, 6, Method::Watertight));
+    assert!(dc.hausdorff() < 0.35 * h, "dc {dc:?}");
+    assert!(dc.hausdorff() < 0.6 * wt.hausdorff(), "dc {dc:?} wt {wt:?}");
+}
+
+#[test]
+fn verified_simplification_keeps_the_guarantees() {
+    let (m, b) = example("m4_rblend10.hf");
+    let full = mesh(&m, b, 6, Method::Watertight);
+    let h = 2.0 / 64.0;
+    for frac in [0.05, 0.25, 1.0] {
+        let mut s = full.clone();
+        if frac_kept(&mut s, frac * h) {
+            check_closed(&format!("simplified {frac}"), &s, true);
+            assert_eq!(
+                s.topology().euler_characteristic(),
+                full.topology().euler_characteristic()
+            );
+            let most = if frac < 0.1 { 1.0 } else { 0.5 };
+            assert!(
+                (s.triangles.len() as f64) < most * full.triangles.len() as f64,
+                "{frac}: {} of {}",
+                s.triangles.len(),
+                full.triangles.len()
+            );
+        } else {
+            assert_eq!(s.triangles.len(), full.triangles.len());
+        }
+    }
+}
+
+fn frac_kept(m: &mut Mesh, e: f64) -> bool {
+    frep_mesh::poly::simplify_verified(m, e as f32, true).is_some()
 }

@@ -25,11 +25,19 @@
 //! - [`Method::Watertight`]: the marching-cubes polygons, vertices shared by edge.
 //! - [`Method::DualContouring`]: one vertex per polygon (component) per cube, placed by a QEF
 //!   of its crossings and gradient normals (sharp features), one quad per crossing edge: the
-//!   dual of the marching-cubes mesh, hence a closed 2-manifold as well.
+//!   dual of the marching-cubes mesh, hence a closed 2-manifold as well. A polygon that
+//!   crosses one cube face twice (walls about a cell thick) is first split in two by a chord
+//!   ([`table::DualCase`]): otherwise two such polygons of neighbouring cubes would share two
+//!   segments and their vertices a doubled (non-manifold) edge. The edges at a chord's ends
+//!   get a fan around their crossing instead of a quad. The QEF minimizer may leave its cube
+//!   by half a cell (a union's crease often runs through cubes whose samples all lie on one
+//!   side, next to the cubes that see both sheets), then a few Newton steps move the vertex
+//!   onto the surface (a vertex on a crease does not move).
 //! - [`Method::MarchingCubes`]: the classic baseline: uniform grid, no pruning, no
 //!   simplification, linear interpolation, normals from the triangles.
 
 pub mod bounds;
+pub mod error;
 mod qef;
 pub mod table;
 
@@ -216,7 +224,11 @@ const MAX_BRICKS: i32 = 128;
 /// Vertices stay this fraction of an edge away from its ends (no coincident vertices).
 const EDGE_MARGIN: f64 = 0.01;
 /// Regula falsi steps on each crossing edge.
-const ROOT_STEPS: usize = 5;
+const ROOT_STEPS: usize = 8;
+/// How far (in cells) a dual-contouring vertex may leave its cube.
+const DC_SLACK: f64 = 0.5;
+/// Newton steps that move a dual-contouring vertex onto the surface.
+const SNAP_STEPS: usize = 3;
 
 /// The sampling lattice.
 #[derive(Clone, Debug)]
@@ -766,6 +778,32 @@ impl Ctx<'_> {
         (pos, nrm)
     }
 
+    /// Moves a dual-contouring vertex onto the surface by Newton steps along the gradient,
+    /// staying in the cube `[lo, hi]`: where the QEF minimizer had to be clamped (a crease that
+    /// leaves the cube) or the tangent planes disagree (curvature), the vertex would
+    /// otherwise sit off the surface. On a crease `f ≈ 0` already and nothing moves.
+    fn snap(&self, ge: &mut GradEval, x: [f64; 3], lo: [f64; 3], hi: [f64; 3]) -> [f64; 3] {
+        let mut x = x;
+        for _ in 0..SNAP_STEPS {
+            let g = ge.eval(x[0], x[1], x[2], self.inputs);
+            let len2 = g.dx * g.dx + g.dy * g.dy + g.dz * g.dz;
+            if !(len2 > 0.0 && len2.is_finite() && g.v.is_finite()) || g.v == 0.0 {
+                break;
+            }
+            let s = g.v / len2;
+            let y = [
+                (x[0] - s * g.dx).clamp(lo[0], hi[0]),
+                (x[1] - s * g.dy).clamp(lo[1], hi[1]),
+                (x[2] - s * g.dz).clamp(lo[2], hi[2]),
+            ];
+            if y == x {
+                break;
+            }
+            x = y;
+        }
+        x
+    }
+
     fn colors_at(&self, brick: Option<&Brick>, pts: &[[f64; 3]]) -> Vec<[f32; 3]> {
         let Some(brick) = brick.filter(|_| self.colors > 0 && !pts.is_empty()) else {
             return Vec::new();
@@ -933,19 +971,31 @@ impl Ctx<'_> {
             }
             return Ok(out);
         }
-        // Dual contouring: one vertex per polygon, one quad per crossing lower edge.
+        // Dual contouring: one vertex per polygon (split where a polygon crosses a face
+        // twice, see `DualCase`), one quad per crossing lower edge.
+        let dual = table::dual_cases();
+        let mut ge = brick.map(|b| GradEval::new(&b.tape));
         let mut pts = Vec::new();
         let mut ns = Vec::new();
         let mut dc_pos = Vec::new();
         for (q, mask, local) in &cubes {
-            let case = &table[*mask];
-            let lo = g.point(*q);
-            let hi = g.point(add(*q, [1, 1, 1]));
-            for k in 0..case.polygons() {
+            let case = &dual[*mask];
+            // Vertices may leave their cube by a fraction of a cell: a crease (a groove of a
+            // union) can run just outside the cubes whose crossings see both of its sheets,
+            // through cubes whose samples all lie on one side.
+            // Not on the box: cap vertices stay on its faces.
+            let slack = if g.is_virtual(*q) || g.is_virtual(add(*q, [1, 1, 1])) {
+                0.0
+            } else {
+                DC_SLACK
+            };
+            let lo = [0, 1, 2].map(|k| g.coord(k, q[k]) - slack * g.h[k]);
+            let hi = [0, 1, 2].map(|k| g.coord(k, q[k] + 1) + slack * g.h[k]);
+            for (k, poly) in case.polygons.iter().enumerate() {
                 pts.clear();
                 ns.clear();
                 let mut avg = [0.0; 3];
-                for &ei in case.polygon(k) {
+                for &ei in poly {
                     let v = local[ei as usize] as usize;
                     pts.push(pos[v]);
                     ns.push(nrm[v]);
@@ -953,15 +1003,19 @@ impl Ctx<'_> {
                         avg[c] += nrm[v][c];
                     }
                 }
-                let x = qef::solve(&pts, &ns, lo, hi);
+                let mut x = qef::solve(&pts, &ns, lo, hi);
+                if let Some(ge) = ge.as_mut() {
+                    x = self.snap(ge, x, lo, hi);
+                }
                 dc_pos.push(x);
-                out.keys.push(point_key(*q) << 2 | k as u64);
+                out.keys.push(point_key(*q) << 3 | k as u64);
                 out.positions.push(x.map(|c| c as f32));
                 out.normals.push(norm(avg).map(|c| c as f32));
             }
             for axis in 0..3 {
                 let c1 = 1usize << axis;
-                if case.component[edge_between(0, c1) as usize] == 255 {
+                let e0 = edge_between(0, c1) as usize;
+                if case.at[e0][0] == 255 {
                     continue;
                 }
                 let (bx, cx) = ((axis + 1) % 3, (axis + 2) % 3);
@@ -969,18 +1023,47 @@ impl Ctx<'_> {
                 eb[bx] = 1;
                 let mut ec = [0; 3];
                 ec[cx] = 1;
-                let mut quad = [0u64; 4];
+                // The cubes around the edge in order; in each, the polygon holding the
+                // segment on the face shared with the previous cube, then (when the edge
+                // ends a chord there) the one on the face shared with the next.
+                let mut ring: Vec<u64> = Vec::with_capacity(4);
                 for (slot, d) in [[0, 0, 0], eb, add(eb, ec), ec].iter().enumerate() {
                     let qn = [q[0] - d[0], q[1] - d[1], q[2] - d[2]];
                     let m = if slot == 0 { *mask } else { lat.case_at(qn) };
                     let lo_c = (d[0] | d[1] << 1 | d[2] << 2) as usize;
-                    let comp = table[m].component[edge_between(lo_c, lo_c | c1) as usize];
-                    quad[slot] = point_key(qn) << 2 | comp as u64;
+                    let e = edge_between(lo_c, lo_c | c1);
+                    let (prev_ax, next_ax) = if slot % 2 == 0 { (cx, bx) } else { (bx, cx) };
+                    let ef = table::edge_faces(e);
+                    let id = |ax: usize| {
+                        let f = (2 * ax + d[ax] as usize) as u8;
+                        let s = usize::from(ef[1] == f);
+                        dual[m].at[e as usize][s] as u64
+                    };
+                    let (a, b) = (id(prev_ax), id(next_ax));
+                    ring.push(point_key(qn) << 3 | a);
+                    if b != a {
+                        ring.push(point_key(qn) << 3 | b);
+                    }
                 }
                 if mask & 1 == 0 {
-                    quad.reverse();
+                    ring.reverse();
                 }
-                out.quads.push(quad);
+                if let [a, b, c, d] = ring[..] {
+                    out.quads.push([a, b, c, d]);
+                    continue;
+                }
+                // A chord ends here: a fan around the edge's crossing (a new vertex, so that
+                // no new edge can duplicate an existing one).
+                let v = local[e0] as usize;
+                let ck = 1 << 63 | point_key(*q) << 2 | axis as u64;
+                dc_pos.push(pos[v]);
+                out.keys.push(ck);
+                out.positions.push(pos[v].map(|c| c as f32));
+                out.normals.push(nrm[v].map(|c| c as f32));
+                for j in 0..ring.len() {
+                    out.triangles
+                        .push([ck, ring[j], ring[(j + 1) % ring.len()]]);
+                }
             }
         }
         out.colors = self.colors_at(brick, &dc_pos);
@@ -1192,10 +1275,46 @@ fn run(
     #[cfg(feature = "export")]
     if let Some(frac) = settings.simplify {
         let cell = grid.h.iter().fold(0.0f64, |a, &b| a.max(b));
-        simplify_mesh(&mut mesh, (frac * cell) as f32);
+        simplify_verified(
+            &mut mesh,
+            (frac * cell) as f32,
+            settings.method == Method::Watertight,
+        );
     }
     progress.done.store(progress.estimated(), Ordering::Relaxed);
     Ok(mesh)
+}
+
+/// [`simplify_mesh`], then a check that the result keeps what the input had: closed,
+/// 2-manifold, consistently oriented, no degenerate triangles, the same components and Euler
+/// characteristic (genus), and, when `intersections`, no self-intersections. A result that
+/// fails is dropped and the simplification retried with half the error (three tries); the
+/// mesh stays unsimplified when every try fails. Returns the error bound that was kept.
+#[cfg(feature = "export")]
+pub fn simplify_verified(mesh: &mut Mesh, error: f32, intersections: bool) -> Option<f32> {
+    let before = mesh.topology();
+    if !(before.is_closed_manifold() && before.is_consistently_oriented()) {
+        simplify_mesh(mesh, error);
+        return Some(error);
+    }
+    let mut e = error;
+    for _ in 0..3 {
+        let mut m = mesh.clone();
+        simplify_mesh(&mut m, e);
+        let t = m.topology();
+        let ok = t.is_closed_manifold()
+            && t.is_consistently_oriented()
+            && t.degenerate_triangles == 0
+            && t.components == before.components
+            && t.euler_characteristic() == before.euler_characteristic()
+            && (!intersections || m.self_intersections(1) == 0);
+        if ok {
+            *mesh = m;
+            return Some(e);
+        }
+        e *= 0.5;
+    }
+    None
 }
 
 /// Error-bounded edge-collapse simplification (meshopt), absolute error `error`.

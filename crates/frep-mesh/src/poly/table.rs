@@ -149,6 +149,98 @@ pub fn cases() -> &'static [Case; 256] {
     })
 }
 
+/// The polygons of a case for dual contouring: like [`Case`], but a polygon that crosses one
+/// face of the cube twice (both segments of an ambiguous face; 36 case polygons, walls about
+/// one cell thick) is split in two by a chord between its crossings, one half per segment.
+/// Two polygons of neighbouring cubes then share at most one segment, so their dual vertices
+/// share at most one edge: without the split, a thin wall can give two cubes' vertices two
+/// edges (a doubled, non-manifold edge of the dual mesh).
+#[derive(Clone, Debug, Default)]
+pub struct DualCase {
+    /// Polygons (edge ids, counter-clockwise from outside).
+    pub polygons: Vec<Vec<u8>>,
+    /// Whether polygon `k` is half of a split one: its closing side (last edge to first) is
+    /// the chord, inside the cube, not a segment on a face.
+    pub chord: Vec<bool>,
+    /// For each edge and each of its two faces (in [`edge_faces`] order), the polygon that
+    /// holds the edge's segment on that face (255: no crossing). The two differ only at the
+    /// ends of a chord.
+    pub at: [[u8; 2]; 12],
+}
+
+/// The two faces (`2·axis + side`) edge `e` lies on.
+pub fn edge_faces(e: u8) -> [u8; 2] {
+    faces(e)
+}
+
+fn common_face(a: u8, b: u8) -> u8 {
+    let fb = faces(b);
+    faces(a)
+        .into_iter()
+        .find(|f| fb.contains(f))
+        .expect("consecutive polygon edges share a face")
+}
+
+fn build_dual(c: &Case) -> DualCase {
+    let mut polys: Vec<Vec<u8>> = Vec::new();
+    let mut chord = Vec::new();
+    for k in 0..c.polygons() {
+        let p = c.polygon(k).to_vec();
+        let n = p.len();
+        let face = |i: usize| common_face(p[i], p[(i + 1) % n]);
+        let twice = (0..n).find_map(|i| ((i + 1)..n).find(|&j| face(j) == face(i)).map(|j| (i, j)));
+        let Some((i, j)) = twice else {
+            polys.push(p);
+            chord.push(false);
+            continue;
+        };
+        // Segments (p[i], p[i+1]) and (p[j], p[j+1]); the chord joins a crossing strictly
+        // between them on each side (the middle one).
+        let x = i + 1 + (j - i) / 2;
+        let y = (j + 1 + (n + i - j) / 2) % n;
+        let x = x.clamp(i + 1, j);
+        let walk = |from: usize, to: usize| {
+            let mut v = vec![p[from]];
+            let mut t = from;
+            while t != to {
+                t = (t + 1) % n;
+                v.push(p[t]);
+            }
+            v
+        };
+        polys.push(walk(y, x));
+        polys.push(walk(x, y));
+        chord.extend([true, true]);
+    }
+    let mut at = [[255u8; 2]; 12];
+    for (k, p) in polys.iter().enumerate() {
+        let n = p.len();
+        let sides = if chord[k] { n - 1 } else { n };
+        for i in 0..sides {
+            let (a, b) = (p[i], p[(i + 1) % n]);
+            let f = common_face(a, b);
+            for e in [a, b] {
+                let slot = faces(e).iter().position(|&g| g == f).expect("face of edge");
+                at[e as usize][slot] = k as u8;
+            }
+        }
+    }
+    DualCase {
+        polygons: polys,
+        chord,
+        at,
+    }
+}
+
+/// The 256 dual-contouring cases (see [`DualCase`]).
+pub fn dual_cases() -> &'static [DualCase; 256] {
+    static CASES: OnceLock<Box<[DualCase; 256]>> = OnceLock::new();
+    CASES.get_or_init(|| {
+        let v: Vec<DualCase> = cases().iter().map(build_dual).collect();
+        Box::new(v.try_into().expect("256 cases"))
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -174,5 +266,33 @@ mod tests {
         assert_eq!(cases()[0].polygons(), 0);
         assert_eq!(cases()[1].polygons(), 1);
         assert_eq!(cases()[1].polygon(0).len(), 3);
+    }
+
+    #[test]
+    fn dual_cases_cross_each_face_once() {
+        let mut split = 0;
+        for (case, d) in dual_cases().iter().enumerate() {
+            let c = &cases()[case];
+            split += d.polygons.len() - c.polygons();
+            assert!(d.polygons.len() <= 8);
+            for (k, p) in d.polygons.iter().enumerate() {
+                assert!(p.len() >= 3, "case {case}");
+                let mut seen = [0; 6];
+                let sides = p.len() - usize::from(d.chord[k]);
+                for i in 0..sides {
+                    seen[common_face(p[i], p[(i + 1) % p.len()]) as usize] += 1;
+                }
+                assert!(
+                    seen.iter().all(|&s| s <= 1),
+                    "case {case} polygon {k}: {p:?}"
+                );
+            }
+            for e in 0..12 {
+                let crosses = c.component[e] != 255;
+                assert_eq!(crosses, d.at[e][0] != 255, "case {case} edge {e}");
+                assert_eq!(crosses, d.at[e][1] != 255, "case {case} edge {e}");
+            }
+        }
+        assert_eq!(split, 36);
     }
 }
