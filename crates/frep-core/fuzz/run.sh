@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Runs the `parse` fuzz target for SECONDS (default 60) with cargo-fuzz.
+# Runs the `parse` fuzz target (lexer, parser, compiler and evaluators) for
+# SECONDS (default 60) with cargo-fuzz.
 #
 #   crates/frep-core/fuzz/run.sh [SECONDS] [extra libFuzzer flags...]
 #
