@@ -21,50 +21,14 @@
 //! 0.06, 0.03, 0.015 cell whose measured H is at most fidget's H (or ours unsimplified when none is);
 //! its time is the meshing plus the simplification. Memory: the peak of live heap bytes during
 //! the run (a counting global allocator), per output triangle.
-#![allow(unsafe_code)]
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicUsize, Ordering};
+use frep_bench::alloc::{peak_during, Counting};
 use std::time::Instant;
 
 use frep_core::{Inputs, Model};
 use frep_mesh::poly::error::SurfaceSamples;
 use frep_mesh::poly::simplify_verified;
 use frep_mesh::{polygonize, CancelToken, Mesh, MeshSettings, Method, Progress, Resolution};
-
-struct Counting;
-
-static LIVE: AtomicUsize = AtomicUsize::new(0);
-static PEAK: AtomicUsize = AtomicUsize::new(0);
-
-// SAFETY: forwards to the system allocator, only counting bytes.
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        let p = unsafe { System.alloc(layout) };
-        if !p.is_null() {
-            let now = LIVE.fetch_add(layout.size(), Ordering::Relaxed) + layout.size();
-            PEAK.fetch_max(now, Ordering::Relaxed);
-        }
-        p
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        unsafe { System.dealloc(ptr, layout) };
-        LIVE.fetch_sub(layout.size(), Ordering::Relaxed);
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        let p = unsafe { System.realloc(ptr, layout, new_size) };
-        if !p.is_null() {
-            if new_size > layout.size() {
-                let now = LIVE.fetch_add(new_size - layout.size(), Ordering::Relaxed) + new_size
-                    - layout.size();
-                PEAK.fetch_max(now, Ordering::Relaxed);
-            } else {
-                LIVE.fetch_sub(layout.size() - new_size, Ordering::Relaxed);
-            }
-        }
-        p
-    }
-}
 
 #[global_allocator]
 static ALLOC: Counting = Counting;
@@ -75,13 +39,11 @@ fn measure<R>(reps: usize, mut f: impl FnMut() -> R) -> (f64, usize, R) {
     let mut peak = 0;
     let mut out = None;
     for r in 0..reps.max(1) {
-        let base = LIVE.load(Ordering::Relaxed);
-        PEAK.store(base, Ordering::Relaxed);
         let t = Instant::now();
-        let v = f();
+        let (v, p) = peak_during(&mut f);
         best = best.min(t.elapsed().as_secs_f64());
         if r == 0 {
-            peak = PEAK.load(Ordering::Relaxed).saturating_sub(base);
+            peak = p;
         }
         out = Some(v);
     }

@@ -20,54 +20,15 @@
 //! Run: `scripts/bench-render.sh` (or `cargo bench -p frep-bench --features
 //! anchors --bench render`).
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicUsize, Ordering};
+use frep_bench::alloc::{peak_during, Counting};
 use std::time::{Duration, Instant};
 
 use frep_core::Model;
 use frep_render::camera::Projection;
 use frep_render::{render_camera, render_with, Aabb, Camera, ModelCaster, RenderSettings};
 
-/// Counts live heap bytes and their peak.
-struct Counting;
-
-static LIVE: AtomicUsize = AtomicUsize::new(0);
-static PEAK: AtomicUsize = AtomicUsize::new(0);
-
-#[allow(unsafe_code)]
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        // SAFETY: forwarded to the system allocator with the same layout.
-        let p = unsafe { System.alloc(layout) };
-        if !p.is_null() {
-            let now = LIVE.fetch_add(layout.size(), Ordering::Relaxed) + layout.size();
-            PEAK.fetch_max(now, Ordering::Relaxed);
-        }
-        p
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        // SAFETY: `ptr` came from `alloc` above with this layout.
-        unsafe { System.dealloc(ptr, layout) };
-        LIVE.fetch_sub(layout.size(), Ordering::Relaxed);
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        // SAFETY: forwarded to the system allocator.
-        let p = unsafe { System.realloc(ptr, layout, new_size) };
-        if !p.is_null() {
-            if new_size >= layout.size() {
-                let now = LIVE.fetch_add(new_size - layout.size(), Ordering::Relaxed) + new_size
-                    - layout.size();
-                PEAK.fetch_max(now, Ordering::Relaxed);
-            } else {
-                LIVE.fetch_sub(layout.size() - new_size, Ordering::Relaxed);
-            }
-        }
-        p
-    }
-}
-
 #[global_allocator]
-static GLOBAL: Counting = Counting;
+static ALLOC: Counting = Counting;
 
 fn reps() -> usize {
     std::env::var("FREP_BENCH_REPS")
@@ -238,10 +199,8 @@ fn main() {
                 eprintln!("{file} {size}² top: {:?} {:?}", t.elapsed(), caster.stats());
             }
             // Peak heap of one 2-thread render, beyond the image.
-            let base = LIVE.load(Ordering::Relaxed);
-            PEAK.store(base, Ordering::Relaxed);
-            let img = p2.install(|| render_camera(&model, &turn, &cam, None).unwrap());
-            let peak = PEAK.load(Ordering::Relaxed) - base;
+            let (img, peak) =
+                peak_during(|| p2.install(|| render_camera(&model, &turn, &cam, None).unwrap()));
             let peak_mib = (peak as f64 - img.rgba.len() as f64) / (1u64 << 20) as f64;
             drop(img);
             let (top, fidget) = match anchor {

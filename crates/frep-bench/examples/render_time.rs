@@ -4,40 +4,15 @@
 //! turntable of the model's own box). Prints the minimum time per example,
 //! and the caster's counters with `FREP_BENCH_STATS=1`.
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicUsize, Ordering};
+use frep_bench::alloc::{peak_during, Counting};
 use std::time::{Duration, Instant};
 
 use frep_core::Model;
 use frep_render::camera::Projection;
 use frep_render::{render_with, Aabb, Camera, ModelCaster, RenderSettings};
 
-/// Counts live heap bytes and their peak.
-struct Counting;
-
-static LIVE: AtomicUsize = AtomicUsize::new(0);
-static PEAK: AtomicUsize = AtomicUsize::new(0);
-
-#[allow(unsafe_code)]
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        // SAFETY: forwarded to the system allocator with the same layout.
-        let p = unsafe { System.alloc(layout) };
-        if !p.is_null() {
-            let now = LIVE.fetch_add(layout.size(), Ordering::Relaxed) + layout.size();
-            PEAK.fetch_max(now, Ordering::Relaxed);
-        }
-        p
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        // SAFETY: `ptr` came from `alloc` above with this layout.
-        unsafe { System.dealloc(ptr, layout) };
-        LIVE.fetch_sub(layout.size(), Ordering::Relaxed);
-    }
-}
-
 #[global_allocator]
-static GLOBAL: Counting = Counting;
+static ALLOC: Counting = Counting;
 
 fn bounds_of(src: &str) -> Aabb {
     src.lines()
@@ -108,12 +83,11 @@ fn main() {
             if let Some(v) = knob("FREP_FALLBACK_DEPTH") {
                 caster.fallback_depth = v as u32;
             }
-            let base = LIVE.load(Ordering::Relaxed);
-            PEAK.store(base, Ordering::Relaxed);
             let t = Instant::now();
-            let img = pool.install(|| render_with(&caster, &s, &cam, None).unwrap());
+            let (img, p) =
+                peak_during(|| pool.install(|| render_with(&caster, &s, &cam, None).unwrap()));
             best = best.min(t.elapsed());
-            peak = peak.max(PEAK.load(Ordering::Relaxed) - base - img.rgba.len());
+            peak = peak.max(p.saturating_sub(img.rgba.len()));
             std::hint::black_box(img);
             stats = Some(caster.stats());
         }

@@ -10,6 +10,7 @@
 
 #![warn(missing_docs)]
 
+pub mod alloc;
 #[cfg(feature = "anchors")]
 pub mod anchors;
 #[cfg(feature = "anchors")]
