@@ -855,8 +855,14 @@ fn check_declarations(program: &Program, body: &Body) -> Result<(), Diagnostic> 
         match e {
             Expr::Num { .. } => Ok(()),
             Expr::Ident(id) => {
-                if declared.contains(id.name.as_str()) || bodies.contains(id.name.as_str()) {
+                if declared.contains(id.name.as_str()) {
                     Ok(())
+                } else if bodies.contains(id.name.as_str()) {
+                    Err(Diagnostic::new(
+                        id.span,
+                        format!("`{}` is a body; call it with its arrays", id.name),
+                    )
+                    .expected(format!("`{}(x, a)`", id.name)))
                 } else {
                     Err(Diagnostic::new(
                         id.span,
