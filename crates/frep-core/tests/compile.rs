@@ -329,3 +329,17 @@ fn node_limit_is_enforced() {
     assert!(e.message.contains("500 nodes"), "{e}");
     assert!(Model::compile(src).is_ok());
 }
+
+#[test]
+fn runaway_loop_with_point_dependent_branch_stops_at_a_limit() {
+    // Found by the fuzzer: `i = i + 0` never ends the loop, and the `if`
+    // inside adds selects on every iteration. A limit stops it with an error.
+    let src = "my_model(x[3], a[1]) { s1 = 0; i = 1; while i < 10 loop if x[1] > i then s1 = s1 + x[2]; endif; i = i + 0; endloop; my_model = s1; }";
+    let opts = CompileOptions {
+        max_nodes: 20_000,
+        ..Default::default()
+    };
+    let err = Model::compile_with(src, &opts).unwrap_err();
+    assert!(err.message.contains("20000 nodes"), "{err}");
+    assert_eq!(err.span.line, 1);
+}
