@@ -267,15 +267,25 @@ fn to_byte(c: f32) -> u8 {
     (c.clamp(0.0, 1.0) * 255.0 + 0.5) as u8
 }
 
+/// Cells of [`srgb_byte`]'s index over `[0, 1]`.
+const SRGB_CELLS: usize = 4096;
+
 /// `to_byte(linear_to_srgb(c))` without a `powf`: the byte is the number of
 /// thresholds at or below `c`, where threshold `b - 1` is the smallest `c`
 /// whose byte is at least `b` (found once by bisection over the `f32`s, so
-/// the result is the same byte, bit for bit, for every finite `c`).
+/// the result is the same byte, bit for bit, for every finite `c`). An index
+/// gives the count at the start of `c`'s cell of `1/SRGB_CELLS` (exact: the
+/// scaling is by a power of two), and the thresholds inside the cell, at
+/// most a few, are counted one by one.
 fn srgb_byte(c: f32) -> u8 {
-    static T: std::sync::OnceLock<[f32; 255]> = std::sync::OnceLock::new();
-    let t = T.get_or_init(|| {
+    struct Table {
+        t: [f32; 255],
+        idx: Vec<u8>,
+    }
+    static T: std::sync::OnceLock<Table> = std::sync::OnceLock::new();
+    let tab = T.get_or_init(|| {
         let byte = |bits: u32| to_byte(linear_to_srgb(f32::from_bits(bits)));
-        std::array::from_fn(|i| {
+        let t: [f32; 255] = std::array::from_fn(|i| {
             let want = i as u8 + 1;
             // Non-negative f32s are ordered like their bit patterns.
             let (mut lo, mut hi) = (0u32, 1.0f32.to_bits());
@@ -288,12 +298,29 @@ fn srgb_byte(c: f32) -> u8 {
                 }
             }
             f32::from_bits(lo)
-        })
+        });
+        let idx = (0..=SRGB_CELLS)
+            .map(|q| {
+                let x = q as f32 / SRGB_CELLS as f32;
+                t.partition_point(|&v| v <= x) as u8
+            })
+            .collect();
+        Table { t, idx }
     });
     if c.is_nan() {
         return to_byte(linear_to_srgb(c));
     }
-    t.partition_point(|&x| x <= c) as u8
+    if c < 0.0 {
+        return tab.t.partition_point(|&x| x <= c) as u8;
+    }
+    if c >= 1.0 {
+        return 255;
+    }
+    let mut b = tab.idx[(c * SRGB_CELLS as f32) as usize] as usize;
+    while b < 255 && tab.t[b] <= c {
+        b += 1;
+    }
+    b as u8
 }
 
 /// Shades a hit buffer: key + fill + rim lights fixed to the camera,

@@ -279,6 +279,8 @@ struct Scratch {
     /// Per ray of the current leaf: (tile ray index, lo depth, hi depth).
     leaf_rays: Vec<(usize, f64, f64)>,
     brackets: Vec<Bracket>,
+    /// Rays whose first sample is inside: (ray, depth, at the model box
+    /// entry).
     direct: Vec<(usize, f64, bool)>,
     /// Thin-feature searches: (ray, lo depth, hi depth, f at lo, finest
     /// cell length).
@@ -1078,19 +1080,20 @@ impl<'a> TileCtx<'a> {
         let sc = &mut *self.sc;
         sc.fracs.clear();
         sc.fracs.extend((0..=n).map(|k| k as f64 / n as f64));
-        sc.clear_points();
         let total = leaf_rays.len() * (n + 1);
-        sc.xs.reserve(total);
-        sc.ys.reserve(total);
-        sc.zs.reserve(total);
+        sc.xs.resize(total, 0.0);
+        sc.ys.resize(total, 0.0);
+        sc.zs.resize(total, 0.0);
+        let mut o = 0;
         for &(i, lo, hi) in &leaf_rays {
             let r = &sc.rays[i];
             let d = hi - lo;
             for &f in &sc.fracs {
                 let z = lo + d * f;
-                sc.xs.push(r.origin[0] + r.dz[0] * z);
-                sc.ys.push(r.origin[1] + r.dz[1] * z);
-                sc.zs.push(r.origin[2] + r.dz[2] * z);
+                sc.xs[o] = r.origin[0] + r.dz[0] * z;
+                sc.ys[o] = r.origin[1] + r.dz[1] * z;
+                sc.zs[o] = r.origin[2] + r.dz[2] * z;
+                o += 1;
             }
         }
         self.stats.point_evals += total as u64;
