@@ -263,6 +263,23 @@ pub fn linear_to_srgb(c: f32) -> f32 {
     }
 }
 
+/// `x.powi(n)` by the same square-and-multiply sequence as the `powi`
+/// intrinsic's runtime routine, inline (the routine is an out-of-line call).
+#[inline]
+fn powi(mut x: f32, mut n: u32) -> f32 {
+    let mut r = 1.0f32;
+    loop {
+        if n & 1 == 1 {
+            r *= x;
+        }
+        n /= 2;
+        if n == 0 {
+            return r;
+        }
+        x *= x;
+    }
+}
+
 fn to_byte(c: f32) -> u8 {
     (c.clamp(0.0, 1.0) * 255.0 + 0.5) as u8
 }
@@ -439,7 +456,7 @@ impl Shader {
             let e = lighting.shininess;
             // Whole exponents (the default 40) by multiplication, no powf.
             let p = if e.fract() == 0.0 && (0.0..=1024.0).contains(&e) {
-                x.powi(e as i32)
+                powi(x, e as u32)
             } else {
                 x.powf(e)
             };
@@ -482,6 +499,16 @@ mod tests {
         assert_eq!(srgb_byte(f32::NAN), to_byte(linear_to_srgb(f32::NAN)));
         assert_eq!(srgb_byte(f32::INFINITY), 255);
         assert_eq!(srgb_byte(f32::NEG_INFINITY), 0);
+    }
+
+    #[test]
+    fn powi_matches_std() {
+        for n in [0u32, 1, 2, 3, 7, 40, 41, 1024] {
+            for i in 0..=1000 {
+                let x = i as f32 / 1000.0;
+                assert_eq!(powi(x, n).to_bits(), x.powi(n as i32).to_bits(), "{x}^{n}");
+            }
+        }
     }
 
     #[test]

@@ -289,6 +289,11 @@ struct Scratch {
     tail_list: Vec<(usize, Tail)>,
     hit_rays: Vec<usize>,
     fracs: Vec<f64>,
+    /// Crossings found but not refined yet, with their evaluator (see
+    /// [`TileCtx::finish`]).
+    deferred: Vec<(u32, Bracket)>,
+    /// Direct hits not recorded yet, with their evaluator.
+    deferred_direct: Vec<(u32, (usize, f64, bool))>,
 }
 
 impl Scratch {
@@ -314,6 +319,8 @@ impl Scratch {
             tail_list: Vec::new(),
             hit_rays: Vec::new(),
             fracs: Vec::new(),
+            deferred: Vec::new(),
+            deferred_direct: Vec::new(),
         }
     }
 
@@ -382,7 +389,7 @@ fn choices_hash(parent: usize, choices: &[Choice]) -> u64 {
 
 /// One pixel's ray, with its depth range inside the model box (depth = the
 /// distance along the camera's viewing direction, `z = t · c`).
-#[derive(Clone, Copy)]
+#[derive(Clone, Copy, Default)]
 struct RayInfo {
     origin: [f64; 3],
     dir: [f64; 3],
@@ -531,7 +538,10 @@ impl<'a> TileCtx<'a> {
         sc: &'a mut Scratch,
     ) -> TileCtx<'a> {
         let rm = cam.rays(tile.width, tile.height);
-        sc.rays.clear();
+        let n = (tile.w() * tile.h()) as usize;
+        sc.rays.resize(n, RayInfo::default());
+        sc.zr.resize(n, [0.0; 2]);
+        let mut k = 0;
         for py in tile.y0..tile.y1 {
             for px in tile.x0..tile.x1 {
                 let r = rm.ray(px, py);
@@ -540,7 +550,7 @@ impl<'a> TileCtx<'a> {
                     Some((t0, t1)) => (t0 * c, t1 * c, true),
                     None => (0.0, 0.0, false),
                 };
-                sc.rays.push(RayInfo {
+                sc.rays[k] = RayInfo {
                     origin: r.origin,
                     dir: r.dir,
                     dz: [r.dir[0] / c, r.dir[1] / c, r.dir[2] / c],
@@ -548,17 +558,15 @@ impl<'a> TileCtx<'a> {
                     z0,
                     z1,
                     live,
-                });
+                };
+                sc.zr[k] = if live {
+                    [z0, z1]
+                } else {
+                    [f64::INFINITY, f64::NEG_INFINITY]
+                };
+                k += 1;
             }
         }
-        sc.zr.clear();
-        sc.zr.extend(sc.rays.iter().map(|r| {
-            if r.live {
-                [r.z0, r.z1]
-            } else {
-                [f64::INFINITY, f64::NEG_INFINITY]
-            }
-        }));
         sc.tails.clear();
         sc.tails.resize(sc.rays.len(), Tail::default());
         TileCtx {
@@ -601,6 +609,39 @@ impl<'a> TileCtx<'a> {
             }
         }
         self.search_tails();
+        self.flush_deferred();
+    }
+
+    /// Refines and records the deferred crossings and direct hits of the
+    /// tile, one group per evaluator: refinement steps, normals and colours
+    /// then run in batches of up to the whole tile instead of a leaf.
+    fn flush_deferred(&mut self) {
+        let mut deferred = std::mem::take(&mut self.sc.deferred);
+        let mut direct = std::mem::take(&mut self.sc.deferred_direct);
+        deferred.sort_by_key(|d| d.0);
+        direct.sort_by_key(|d| d.0);
+        let (mut a, mut b) = (0, 0);
+        while a < deferred.len() || b < direct.len() {
+            let e = match (deferred.get(a), direct.get(b)) {
+                (Some(x), Some(y)) => x.0.min(y.0),
+                (Some(x), None) => x.0,
+                (None, Some(y)) => y.0,
+                (None, None) => break,
+            };
+            while a < deferred.len() && deferred[a].0 == e {
+                self.sc.brackets.push(deferred[a].1);
+                a += 1;
+            }
+            while b < direct.len() && direct[b].0 == e {
+                self.sc.direct.push(direct[b].1);
+                b += 1;
+            }
+            self.record(e as usize);
+        }
+        deferred.clear();
+        direct.clear();
+        self.sc.deferred = deferred;
+        self.sc.deferred_direct = direct;
     }
 
     /// The depth range of the unresolved live rays of `rect` within
@@ -1007,9 +1048,33 @@ impl<'a> TileCtx<'a> {
         self.sc.tail_list = list;
     }
 
+    /// Resolves the rays of the buffered brackets and direct hits
+    /// (evaluator `e`): they are searched no further, and their hits are
+    /// refined and recorded at the end of the tile
+    /// ([`TileCtx::flush_deferred`]).
+    fn finish(&mut self, e: usize) {
+        const PENDING: Hit = Hit {
+            t: f64::NAN,
+            position: [f64::NAN; 3],
+            normal: [f64::NAN; 3],
+            color: None,
+        };
+        let sc = &mut *self.sc;
+        for b in sc.brackets.drain(..) {
+            self.out[b.ray] = Some(PENDING);
+            sc.zr[b.ray] = [f64::INFINITY, f64::NEG_INFINITY];
+            sc.deferred.push((e as u32, b));
+        }
+        for d in sc.direct.drain(..) {
+            self.out[d.0] = Some(PENDING);
+            sc.zr[d.0] = [f64::INFINITY, f64::NEG_INFINITY];
+            sc.deferred_direct.push((e as u32, d));
+        }
+    }
+
     /// Refines the buffered brackets (evaluator `e`), records their hits and
     /// the buffered direct hits, and their colours.
-    fn finish(&mut self, e: usize) {
+    fn record(&mut self, e: usize) {
         self.refine(e);
         let brackets = std::mem::take(&mut self.sc.brackets);
         let direct = std::mem::take(&mut self.sc.direct);
