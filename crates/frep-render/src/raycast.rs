@@ -17,9 +17,12 @@
 //! 2. **Leaves.** Every unresolved ray of a leaf is sampled at steps of
 //!    [`ModelCaster::step_px`] pixel footprints across the slab, all rays of
 //!    the leaf in one batch ([`BatchEval`], vectorised across rays). The
-//!    first sign change (`f >= 0` inside, NaN outside) is bracketed and
-//!    refined by false position with the Illinois rule (batched across
-//!    rays) to 1/16 of a footprint, then one secant step.
+//!    first sign change (`f >= 0` inside, NaN outside) is bracketed; the
+//!    ray is then resolved (searched no further), and its bracket waits
+//!    for the end of the tile, where all brackets of one shortened tape are
+//!    refined together by false position with the Illinois rule to 1/16 of
+//!    a footprint, then one secant step (batches of up to a tile's rays,
+//!    not a leaf's).
 //! 3. **Thin features.** A ray whose samples show no crossing although the
 //!    leaf is ambiguous can only hide a feature thinner than a step around a
 //!    local maximum of its samples; that segment is checked with one
@@ -33,8 +36,8 @@
 //!    tile) the segment is searched first, with the evaluator it was
 //!    sampled with, before anything behind it is used.
 //! 4. **Shading inputs.** Normals are `−∇f/|∇f|` by central differences at
-//!    half a pixel footprint, six points per hit, all hits of a leaf in one
-//!    batch on the leaf's shortened tape; where they vanish, forward-mode
+//!    half a pixel footprint, six points per hit, all hits of a tile and
+//!    tape in one batch on that shortened tape (right after refinement); where they vanish, forward-mode
 //!    differentiation ([`GradEval`]), then wider differences, and failing
 //!    those the direction back to the eye. Where the solid is cut by the
 //!    model box the normal is the box face's. Attribute colours come from
