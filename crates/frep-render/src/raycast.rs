@@ -275,9 +275,12 @@ struct Scratch {
     /// Rays whose hit still needs its normal (see [`TileCtx::flush_normals`]).
     need_normal: Vec<usize>,
     tails: Vec<Tail>,
+    /// Points to evaluate: the first `np` of `xs`, `ys`, `zs` (the
+    /// buffers only grow), and their values in the first `np` of `vals`.
     xs: Vec<f64>,
     ys: Vec<f64>,
     zs: Vec<f64>,
+    np: usize,
     vals: Vec<f64>,
     /// Per ray of the current leaf: (tile ray index, lo depth, hi depth).
     leaf_rays: Vec<(usize, f64, f64)>,
@@ -314,6 +317,7 @@ impl Scratch {
             xs: Vec::new(),
             ys: Vec::new(),
             zs: Vec::new(),
+            np: 0,
             vals: Vec::new(),
             leaf_rays: Vec::new(),
             brackets: Vec::new(),
@@ -341,26 +345,49 @@ impl Scratch {
     /// Evaluates output 0 of evaluator `e` at the buffered points into
     /// `vals`.
     fn eval_points(&mut self, e: usize, inputs: &Inputs) {
-        self.vals.clear();
-        self.vals.resize(self.xs.len(), 0.0);
+        let n = self.np;
+        if self.vals.len() < n {
+            self.vals.resize(n, 0.0);
+        }
         let ev = &mut self.evals[e];
         if ev.batch.is_none() {
             self.bytes += batch_bytes(ev.batch());
         }
-        ev.batch()
-            .eval(&self.xs, &self.ys, &self.zs, inputs, &mut self.vals);
+        ev.batch().eval(
+            &self.xs[..n],
+            &self.ys[..n],
+            &self.zs[..n],
+            inputs,
+            &mut self.vals[..n],
+        );
     }
 
     fn clear_points(&mut self) {
-        self.xs.clear();
-        self.ys.clear();
-        self.zs.clear();
+        self.np = 0;
     }
 
     fn push_point(&mut self, p: [f64; 3]) {
-        self.xs.push(p[0]);
-        self.ys.push(p[1]);
-        self.zs.push(p[2]);
+        if self.np < self.xs.len() {
+            self.xs[self.np] = p[0];
+            self.ys[self.np] = p[1];
+            self.zs[self.np] = p[2];
+        } else {
+            self.xs.push(p[0]);
+            self.ys.push(p[1]);
+            self.zs.push(p[2]);
+        }
+        self.np += 1;
+    }
+
+    /// Makes room for `n` points (the buffers only grow: no clearing per
+    /// batch), to be written by index.
+    fn set_points(&mut self, n: usize) {
+        if self.xs.len() < n {
+            self.xs.resize(n, 0.0);
+            self.ys.resize(n, 0.0);
+            self.zs.resize(n, 0.0);
+        }
+        self.np = n;
     }
 }
 
@@ -851,13 +878,11 @@ impl<'a> TileCtx<'a> {
                 for s in [d, -d] {
                     let mut q = p;
                     q[k] += s;
-                    sc.xs.push(q[0]);
-                    sc.ys.push(q[1]);
-                    sc.zs.push(q[2]);
+                    sc.push_point(q);
                 }
             }
         }
-        self.stats.point_evals += sc.xs.len() as u64;
+        self.stats.point_evals += sc.np as u64;
         sc.eval_points(e, &self.caster.inputs);
         let vals = std::mem::take(&mut self.sc.vals);
         let mut j = 0;
@@ -973,18 +998,18 @@ impl<'a> TileCtx<'a> {
             return;
         }
         sc.clear_points();
-        for &(i, a, b, _, min_len) in &sc.searches {
+        let searches = std::mem::take(&mut sc.searches);
+        for &(i, a, b, _, min_len) in &searches {
             let m = cells(b - a, min_len);
             let r = sc.rays[i];
             let w = (b - a) / m as f64;
             for j in 0..m {
                 let p = r.at_depth(a + w * (j as f64 + 0.5));
-                sc.xs.push(p[0]);
-                sc.ys.push(p[1]);
-                sc.zs.push(p[2]);
+                sc.push_point(p);
             }
         }
-        self.stats.point_evals += sc.xs.len() as u64;
+        sc.searches = searches;
+        self.stats.point_evals += sc.np as u64;
         sc.eval_points(e, &self.caster.inputs);
         let mut off = 0;
         for &(i, a, b, fa, min_len) in &sc.searches {
@@ -1149,9 +1174,7 @@ impl<'a> TileCtx<'a> {
         sc.fracs.clear();
         sc.fracs.extend((0..=n).map(|k| k as f64 / n as f64));
         let total = leaf_rays.len() * (n + 1);
-        sc.xs.resize(total, 0.0);
-        sc.ys.resize(total, 0.0);
-        sc.zs.resize(total, 0.0);
+        sc.set_points(total);
         let mut o = 0;
         for &(i, lo, hi) in &leaf_rays {
             let r = &sc.rays[i];
@@ -1285,11 +1308,9 @@ impl<'a> TileCtx<'a> {
             for &j in &active {
                 let b = &sc.brackets[j];
                 let p = sc.rays[b.ray].at_depth(b.trial());
-                sc.xs.push(p[0]);
-                sc.ys.push(p[1]);
-                sc.zs.push(p[2]);
+                sc.push_point(p);
             }
-            self.stats.point_evals += sc.xs.len() as u64;
+            self.stats.point_evals += sc.np as u64;
             sc.eval_points(e, &self.caster.inputs);
             for (&j, &f) in active.iter().zip(&sc.vals) {
                 let b = &mut sc.brackets[j];
@@ -1323,19 +1344,22 @@ impl<'a> TileCtx<'a> {
             return;
         }
         let sc = &mut *self.sc;
-        let eval = sc.attr.get_or_insert_with(|| BatchEval::new(attr_tape));
-        sc.xs.clear();
-        sc.ys.clear();
-        sc.zs.clear();
+        sc.clear_points();
         for &i in hit_rays {
             let p = self.out[i].as_ref().map_or([0.0; 3], |h| h.position);
-            sc.xs.push(p[0]);
-            sc.ys.push(p[1]);
-            sc.zs.push(p[2]);
+            sc.push_point(p);
         }
+        let eval = sc.attr.get_or_insert_with(|| BatchEval::new(attr_tape));
         let mut outs = vec![Vec::new(); attr_tape.outputs.len()];
         self.stats.point_evals += hit_rays.len() as u64;
-        eval.eval_outputs(&sc.xs, &sc.ys, &sc.zs, &self.caster.inputs, &mut outs);
+        let n = sc.np;
+        eval.eval_outputs(
+            &sc.xs[..n],
+            &sc.ys[..n],
+            &sc.zs[..n],
+            &self.caster.inputs,
+            &mut outs,
+        );
         if outs.len() < 4 {
             return;
         }
