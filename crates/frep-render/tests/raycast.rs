@@ -363,3 +363,31 @@ fn pruning_regression_m4() {
 const INTERVAL_BOUND: u64 = 14_000;
 /// See [`INTERVAL_BOUND`].
 const POINT_BOUND: u64 = 200_000;
+
+/// Normals of a sphere of radius 0.8, small in the image (a few dozen pixels
+/// across, so a difference step of a fraction of a pixel is not negligible
+/// against the curvature) and large: within 0.1° of the radial direction,
+/// 0.05° on average. (Central differences at ±½ pixel give 0.02° at 40²; a
+/// tetrahedron of four points, tried instead, 0.75° at ¼ pixel.)
+#[test]
+fn sphere_normals_are_radial() {
+    let model = Model::compile(&example("m1_sphere.hf")).unwrap();
+    for (size, worst_deg, mean_deg) in [(40u32, 0.1f64, 0.05f64), (200, 0.1, 0.05)] {
+        let s = settings(Aabb::new([-1.0; 3], [1.0; 3]), size, size);
+        let hits = render_hits(&model, &s, None).unwrap();
+        let (mut worst, mut sum, mut count) = (0.0f64, 0.0, 0);
+        for h in hits.hits.iter().flatten() {
+            let (n, p) = (h.normal, h.position);
+            let r = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
+            let c = (n[0] * p[0] + n[1] * p[1] + n[2] * p[2]) / r;
+            let deg = c.clamp(-1.0, 1.0).acos().to_degrees();
+            worst = worst.max(deg);
+            sum += deg;
+            count += 1;
+        }
+        assert!(count > size as usize * size as usize / 8, "{count} hits");
+        let mean = sum / count as f64;
+        assert!(worst < worst_deg, "{size}²: worst {worst}°");
+        assert!(mean < mean_deg, "{size}²: mean {mean}°");
+    }
+}
