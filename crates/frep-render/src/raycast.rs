@@ -443,6 +443,34 @@ impl RayInfo {
     }
 }
 
+/// The corner rays of a pixel rectangle's frustum (through its outer pixel
+/// edges), each as a point and its direction per unit depth, so that the
+/// frustum's boxes between depths take no division (the depth-bisection
+/// children of a node share them).
+struct Corners {
+    origin: [[f64; 3]; 4],
+    dz: [[f64; 3]; 4],
+}
+
+impl Corners {
+    /// The axis-aligned box of the frustum between depths `z0` and `z1`
+    /// (what [`Frustum::aabb_between_depths`](crate::camera::Frustum::aabb_between_depths) gives).
+    fn aabb(&self, z0: f64, z1: f64) -> Aabb {
+        let mut min = [f64::INFINITY; 3];
+        let mut max = [f64::NEG_INFINITY; 3];
+        for j in 0..4 {
+            for z in [z0, z1] {
+                for a in 0..3 {
+                    let p = self.origin[j][a] + self.dz[j][a] * z;
+                    min[a] = min[a].min(p);
+                    max[a] = max[a].max(p);
+                }
+            }
+        }
+        Aabb { min, max }
+    }
+}
+
 /// The last two samples of a ray's latest sampled slab without a crossing.
 /// `pending`: the last sample is a local maximum so far (the field rises
 /// towards the slab's end), so a feature thinner than a step may hide just
@@ -629,7 +657,8 @@ impl<'a> TileCtx<'a> {
             x1: self.tile.w(),
             y1: self.tile.h(),
         };
-        self.node(0, rect, zmin, zmax);
+        let k = self.corners(rect);
+        self.node(0, rect, &k, zmin, zmax);
         // Rays whose last samples rose to the end of their last slab.
         for i in 0..self.sc.rays.len() {
             if self.out[i].is_none() && self.sc.tails[i].pending {
@@ -742,20 +771,34 @@ impl<'a> TileCtx<'a> {
         child
     }
 
-    fn node(&mut self, e: usize, rect: Rect, za: f64, zb: f64) {
-        if self.caster.cancelled() {
-            return;
-        }
-        let Some((za, zb)) = self.active_range(rect, za, zb) else {
-            return;
-        };
+    /// The corner rays of `rect`'s frustum, for [`Corners::aabb`].
+    fn corners(&self, rect: Rect) -> Corners {
         let fr = self.rm.frustum(
             self.tile.x0 + rect.x0,
             self.tile.y0 + rect.y0,
             self.tile.x0 + rect.x1,
             self.tile.y0 + rect.y1,
         );
-        let Some(b) = clip_box(&fr.aabb_between_depths(za, zb), &self.caster.bounds) else {
+        let mut k = Corners {
+            origin: [[0.0; 3]; 4],
+            dz: [[0.0; 3]; 4],
+        };
+        for (j, r) in fr.corners.iter().enumerate() {
+            let c = dot(r.dir, fr.forward).max(1e-12);
+            k.origin[j] = r.origin;
+            k.dz[j] = [r.dir[0] / c, r.dir[1] / c, r.dir[2] / c];
+        }
+        k
+    }
+
+    fn node(&mut self, e: usize, rect: Rect, k: &Corners, za: f64, zb: f64) {
+        if self.caster.cancelled() {
+            return;
+        }
+        let Some((za, zb)) = self.active_range(rect, za, zb) else {
+            return;
+        };
+        let Some(b) = clip_box(&k.aabb(za, zb), &self.caster.bounds) else {
             return;
         };
         self.stats.interval_evals += 1;
@@ -779,20 +822,21 @@ impl<'a> TileCtx<'a> {
         if zb - za > 2.0 * cell {
             // Interval bisection along the frustum.
             let zm = 0.5 * (za + zb);
-            self.node(e, rect, za, zm);
-            self.node(e, rect, zm, zb);
+            self.node(e, rect, k, za, zm);
+            self.node(e, rect, k, zm, zb);
         } else if s > LEAF {
             let zm = 0.5 * (za + zb);
             for q in rect.quadrants() {
-                self.node(e, q, za, zm);
-                self.node(e, q, zm, zb);
+                let kq = self.corners(q);
+                self.node(e, q, &kq, za, zm);
+                self.node(e, q, &kq, zm, zb);
             }
         } else if zb - za > self.caster.leaf_depth_px * self.footprint(za) {
             // Thin the leaf's slab further: interval evaluations on short
             // tapes are cheaper than sampling every ray of the leaf.
             let zm = 0.5 * (za + zb);
-            self.node(e, rect, za, zm);
-            self.node(e, rect, zm, zb);
+            self.node(e, rect, k, za, zm);
+            self.node(e, rect, k, zm, zb);
         } else {
             self.leaf(e, rect, za, zb);
         }
