@@ -1,62 +1,38 @@
 //! Batch and gradient evaluators against a straightforward scalar walk of
 //! the tape with `ops::*`.
 
+mod common;
+
 use frep_core::eval::batch::{binary_lane, unary_lane, BatchEval, LANES};
 use frep_core::eval::grad::{Grad, GradEval};
 use frep_core::eval::Inputs;
 use frep_core::ops::{self, BinaryOp, BlendOp, EvalError, UnaryOp};
 use frep_core::{Graph, Node, NodeId, Tape};
+
+use common::walk;
 use proptest::prelude::*;
 
 /// The reference: every node in order with `ops::*`, errors as NaN, guards
 /// ignored. Returns every output.
 fn reference(tape: &Tape, p: [f64; 3], inputs: &Inputs) -> Vec<f64> {
-    walk(
-        tape,
-        p,
-        inputs,
-        |op, a| ops::unary(op, a).unwrap_or(f64::NAN),
-        |op, a, b| ops::binary(op, a, b).unwrap_or(f64::NAN),
-    )
+    outputs(tape, p, inputs, walk::exact_unary, walk::exact_binary)
 }
 
 /// The same walk with the batch evaluator's lane functions (bit-exact
 /// expectations for tapes with transcendental functions).
 fn lane_walk(tape: &Tape, p: [f64; 3], inputs: &Inputs) -> Vec<f64> {
-    walk(tape, p, inputs, unary_lane, binary_lane)
+    outputs(tape, p, inputs, unary_lane, binary_lane)
 }
 
-fn walk(
+fn outputs(
     tape: &Tape,
     p: [f64; 3],
     inputs: &Inputs,
     un: impl Fn(UnaryOp, f64) -> f64,
     bin: impl Fn(BinaryOp, f64, f64) -> f64,
 ) -> Vec<f64> {
-    let mut v: Vec<f64> = Vec::with_capacity(tape.nodes.len());
-    for node in &tape.nodes {
-        let g = |id: NodeId| v[id.index()];
-        let r = match *node {
-            Node::Const(b) => f64::from_bits(b),
-            Node::X(i) if i < 3 => p[i as usize],
-            Node::X(i) => inputs.extra_x(i),
-            Node::Param(i) => inputs.param(i),
-            Node::Error(_) => f64::NAN,
-            Node::Unary(op, a) => un(op, g(a)),
-            Node::Binary(op, a, b) => bin(op, g(a), g(b)),
-            Node::PowI(b, n) => ops::pow_int(g(b), n).unwrap_or(f64::NAN),
-            Node::Select(c, t, e) => {
-                if ops::truthy(g(c)) {
-                    g(t)
-                } else {
-                    g(e)
-                }
-            }
-            Node::Blend(op, a) => ops::blend(op, g(a[0]), g(a[1]), g(a[2]), g(a[3]), g(a[4])),
-            Node::Check(_, b) => g(b),
-        };
-        v.push(r);
-    }
+    let mut v = Vec::new();
+    walk::walk_into(tape, p, inputs, un, bin, &mut v);
     tape.outputs.iter().map(|o| v[o.index()]).collect()
 }
 

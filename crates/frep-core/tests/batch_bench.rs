@@ -2,40 +2,21 @@
 //! tape. Run with
 //! `cargo test --release -p frep-core --test batch_bench -- --ignored --nocapture`.
 
+mod common;
+
 use std::time::Instant;
 
 use frep_core::eval::batch::BatchEval;
 use frep_core::eval::grad::{Grad, GradEval};
 use frep_core::eval::Inputs;
-use frep_core::ops::{self, BinaryOp, UnaryOp};
-use frep_core::{Graph, Node, NodeId, Tape};
+use frep_core::ops::{BinaryOp, UnaryOp};
+use frep_core::{Graph, NodeId, Tape};
+
+use common::walk;
 
 /// The straightforward per-point interpreter: one `match` per node per point.
 fn scalar_walk(tape: &Tape, p: [f64; 3], inputs: &Inputs, v: &mut Vec<f64>) -> f64 {
-    v.clear();
-    for node in &tape.nodes {
-        let g = |id: NodeId| v[id.index()];
-        let r = match *node {
-            Node::Const(b) => f64::from_bits(b),
-            Node::X(i) if i < 3 => p[i as usize],
-            Node::X(i) => inputs.extra_x(i),
-            Node::Param(i) => inputs.param(i),
-            Node::Error(_) => f64::NAN,
-            Node::Unary(op, a) => ops::unary(op, g(a)).unwrap_or(f64::NAN),
-            Node::Binary(op, a, b) => ops::binary(op, g(a), g(b)).unwrap_or(f64::NAN),
-            Node::PowI(b, n) => ops::pow_int(g(b), n).unwrap_or(f64::NAN),
-            Node::Select(c, t, e) => {
-                if ops::truthy(g(c)) {
-                    g(t)
-                } else {
-                    g(e)
-                }
-            }
-            Node::Blend(op, a) => ops::blend(op, g(a[0]), g(a[1]), g(a[2]), g(a[3]), g(a[4])),
-            Node::Check(_, b) => g(b),
-        };
-        v.push(r);
-    }
+    walk::walk_into(tape, p, inputs, walk::exact_unary, walk::exact_binary, v);
     v[tape.outputs[0].index()]
 }
 

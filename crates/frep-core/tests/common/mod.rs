@@ -3,6 +3,8 @@
 
 use std::path::{Path, PathBuf};
 
+pub mod walk;
+
 /// One golden point: inputs (x y z then a[]) and the expected outcome.
 #[derive(Debug, Clone)]
 pub struct GoldenPoint {
