@@ -15,10 +15,14 @@
 //! the nearest triangle), points within one cell of the box faces left out (our caps lie on
 //! the box, fidget leaves the mesh open there).
 //!
-//! "reduced": our smallest mesh at fidget's error: watertight or dual contouring, simplified
-//! (meshopt, verified closed / manifold / oriented / same genus, and for watertight free of
-//! self-intersections; see `simplify_verified`) with the largest bound of 0.5, 0.25, 0.12,
-//! 0.06, 0.03, 0.015 cell whose measured H is at most fidget's H (or ours unsimplified when none is);
+//! "reduced": our smallest mesh at fidget's error, in model units: watertight or dual
+//! contouring at the row's depth `d` or at `d − 1`, `d − 2` (a coarser mesh whose error is
+//! below fidget's at `d` is as good a mesh at that error), unsimplified or simplified
+//! (meshopt, verified closed / manifold / oriented / same components and genus, and for
+//! watertight free of self-intersections; see `simplify_verified`) with the largest bound of
+//! 0.5, 0.25, 0.12, 0.06, 0.03, 0.015 cell of depth `d` whose measured H is at most fidget's H.
+//! Every candidate is measured with the row's samples, H in cells of the row's depth.
+//! Labelled `dc6+s0.12`: dual contouring at depth 6, simplified with 0.12 cell (of depth `d`);
 //! its time is the meshing plus the simplification. Memory: the peak of live heap bytes during
 //! the run (a counting global allocator), per output triangle.
 
@@ -198,12 +202,13 @@ fn main() {
             let cell = ext / (1u64 << d) as f64;
             let samples = SurfaceSamples::new(&c.model, &inputs, c.bounds, d, cell);
             let h = |m: &Mesh| samples.error(m).hausdorff() / cell;
-            let settings = |method| MeshSettings {
+            let settings_at = |method, depth| MeshSettings {
                 bounds: c.bounds,
-                resolution: Resolution::Depth(d),
+                resolution: Resolution::Depth(depth),
                 method,
                 ..Default::default()
             };
+            let settings = |method| settings_at(method, d);
             let run = |s: &MeshSettings| {
                 polygonize(&c.model, s, &Progress::new(), &CancelToken::new()).expect("mesh")
             };
@@ -238,32 +243,60 @@ fn main() {
                 }
                 None => "– | – | – | –".into(),
             };
-            // The smallest verified simplification at fidget's error (else ours unsimplified).
+            // The smallest of our meshes at fidget's error: wt or dc at this depth or one or
+            // two coarser (equal error is about model units, not the depth), unsimplified or
+            // simplified with a verified bound; every candidate is measured with this row's
+            // samples, H in this row's cells.
             let target = fid.map_or(h_wt.max(h_dc), |f| f.2);
             let mut best: Option<(String, f64, usize, f64)> = None;
-            for (label, base, t_base, h_base) in
-                [("dc", &m_dc, t_dc, h_dc), ("wt", &m_wt, t_wt, h_wt)]
-            {
-                if h_base <= target && best.as_ref().is_none_or(|b| base.triangles.len() < b.2) {
-                    best = Some((label.to_string(), t_base, base.triangles.len(), h_base));
-                }
-                for frac in [0.5, 0.25, 0.12, 0.06, 0.03, 0.015] {
-                    let mut m = base.clone();
-                    let t0 = Instant::now();
-                    let kept = simplify_verified(&mut m, (frac * cell) as f32, label == "wt");
-                    let ts = t0.elapsed().as_secs_f64();
-                    let Some(e) = kept else { continue };
-                    let hs = h(&m);
-                    if hs <= target {
-                        if best.as_ref().is_none_or(|b| m.triangles.len() < b.2) {
-                            best = Some((
-                                format!("{label}+s{:.2}", e as f64 / cell),
-                                t_base + ts,
-                                m.triangles.len(),
-                                hs,
-                            ));
+            for dl in (d.saturating_sub(2).max(3)..=d).rev() {
+                let coarse = |method| -> (f64, Mesh) {
+                    let (t, _, m) = measure(reps, || run(&settings_at(method, dl)));
+                    (t, m)
+                };
+                let bases = if dl == d {
+                    vec![
+                        ("dc", t_dc, m_dc.clone(), h_dc),
+                        ("wt", t_wt, m_wt.clone(), h_wt),
+                    ]
+                } else {
+                    [("dc", Method::DualContouring), ("wt", Method::Watertight)]
+                        .into_iter()
+                        .map(|(l, method)| {
+                            let (t, m) = coarse(method);
+                            let hm = h(&m);
+                            (l, t, m, hm)
+                        })
+                        .collect()
+                };
+                for (label, t_base, base, h_base) in bases {
+                    let label = format!("{label}{dl}");
+                    if h_base <= target && best.as_ref().is_none_or(|b| base.triangles.len() < b.2)
+                    {
+                        best = Some((label.clone(), t_base, base.triangles.len(), h_base));
+                    }
+                    for frac in [0.5, 0.25, 0.12, 0.06, 0.03, 0.015] {
+                        let mut m = base.clone();
+                        let t0 = Instant::now();
+                        let kept = simplify_verified(
+                            &mut m,
+                            (frac * cell) as f32,
+                            label.starts_with("wt"),
+                        );
+                        let ts = t0.elapsed().as_secs_f64();
+                        let Some(e) = kept else { continue };
+                        let hs = h(&m);
+                        if hs <= target {
+                            if best.as_ref().is_none_or(|b| m.triangles.len() < b.2) {
+                                best = Some((
+                                    format!("{label}+s{:.2}", e as f64 / cell),
+                                    t_base + ts,
+                                    m.triangles.len(),
+                                    hs,
+                                ));
+                            }
+                            break;
                         }
-                        break;
                     }
                 }
             }

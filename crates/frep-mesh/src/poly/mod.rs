@@ -30,8 +30,8 @@
 //!   ([`table::DualCase`]): otherwise two such polygons of neighbouring cubes would share two
 //!   segments and their vertices a doubled (non-manifold) edge. The edges at a chord's ends
 //!   get a fan around their crossing instead of a quad. The QEF minimizer may leave its cube
-//!   by half a cell (a union's crease often runs through cubes whose samples all lie on one
-//!   side, next to the cubes that see both sheets), then a few Newton steps move the vertex
+//!   by one cell (a union's groove less than a cell deep runs through cubes whose samples all
+//!   lie on one side, next to the cubes that see both sheets), then a few Newton steps move the vertex
 //!   onto the surface (a vertex on a crease does not move).
 //! - [`Method::MarchingCubes`]: the classic baseline: uniform grid, no pruning, no
 //!   simplification, linear interpolation, normals from the triangles.
@@ -225,8 +225,8 @@ const MAX_BRICKS: i32 = 128;
 const EDGE_MARGIN: f64 = 0.01;
 /// Regula falsi steps on each crossing edge.
 const ROOT_STEPS: usize = 8;
-/// How far (in cells) a dual-contouring vertex may leave its cube.
-const DC_SLACK: f64 = 0.5;
+/// How far (in cells) a dual-contouring vertex may leave its cube (its QEF's box).
+const DC_SLACK: f64 = 1.0;
 /// Newton steps that move a dual-contouring vertex onto the surface.
 const SNAP_STEPS: usize = 3;
 
@@ -980,9 +980,10 @@ impl Ctx<'_> {
         let mut dc_pos = Vec::new();
         for (q, mask, local) in &cubes {
             let case = &dual[*mask];
-            // Vertices may leave their cube by a fraction of a cell: a crease (a groove of a
-            // union) can run just outside the cubes whose crossings see both of its sheets,
-            // through cubes whose samples all lie on one side.
+            // Vertices may leave their cube by up to a cell: a crease (a groove of a union)
+            // can run outside the cubes whose crossings see both of its sheets, through cubes
+            // whose samples all lie inside (M2's necks: with half a cell, the groove was cut
+            // off by 0.25 cell at depth 7).
             // Not on the box: cap vertices stay on its faces.
             let slack = if g.is_virtual(*q) || g.is_virtual(add(*q, [1, 1, 1])) {
                 0.0
