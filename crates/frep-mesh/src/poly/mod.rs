@@ -223,8 +223,10 @@ const BRICK: i32 = 8;
 const MAX_BRICKS: i32 = 128;
 /// Vertices stay this fraction of an edge away from its ends (no coincident vertices).
 const EDGE_MARGIN: f64 = 0.01;
-/// Regula falsi steps on each crossing edge.
-const ROOT_STEPS: usize = 8;
+/// Regula falsi steps on each crossing edge, at most.
+const ROOT_STEPS: usize = 12;
+/// A crossing is found when its estimate moves by less than this fraction of the edge.
+const ROOT_TOL: f64 = 1e-6;
 /// How far (in cells) a dual-contouring vertex may leave its cube (its QEF's box).
 const DC_SLACK: f64 = 1.0;
 /// Newton steps that move a dual-contouring vertex onto the surface.
@@ -748,24 +750,40 @@ impl Ctx<'_> {
         zs.truncate(n);
         f.truncate(n);
         let mut ts = vec![0.0; n];
+        // Edges still searched: an edge whose estimate moved by less than `ROOT_TOL` of the
+        // edge (or that hit `f = 0`) is done and leaves the batch.
+        let mut active: Vec<usize> = (0..n).collect();
+        let mut last = vec![f64::NAN; n];
         for _ in 0..ROOT_STEPS {
-            for (j, (_, a, b)) in todo.iter().enumerate() {
-                let t = next_t(&st[j]);
-                ts[j] = t;
-                xs[j] = a[0] + t * (b[0] - a[0]);
-                ys[j] = a[1] + t * (b[1] - a[1]);
-                zs[j] = a[2] + t * (b[2] - a[2]);
+            let m = active.len();
+            if m == 0 {
+                break;
             }
-            be.eval(&xs, &ys, &zs, self.inputs, &mut f);
-            for j in 0..n {
+            for (k, &j) in active.iter().enumerate() {
+                let (a, b) = (todo[j].1, todo[j].2);
+                let t = next_t(&st[j]);
+                ts[k] = t;
+                xs[k] = a[0] + t * (b[0] - a[0]);
+                ys[k] = a[1] + t * (b[1] - a[1]);
+                zs[k] = a[2] + t * (b[2] - a[2]);
+            }
+            be.eval(&xs[..m], &ys[..m], &zs[..m], self.inputs, &mut f[..m]);
+            for (k, &j) in active.iter().enumerate() {
                 let s = &mut st[j];
-                if f[j] >= 0.0 {
-                    *s = (ts[j], f[j], s.2, if s.4 == 1 { 0.5 * s.3 } else { s.3 }, 1);
+                if f[k] >= 0.0 {
+                    *s = (ts[k], f[k], s.2, if s.4 == 1 { 0.5 * s.3 } else { s.3 }, 1);
                 } else {
-                    let f1 = if f[j].is_nan() { s.3 } else { f[j] };
-                    *s = (s.0, if s.4 == -1 { 0.5 * s.1 } else { s.1 }, ts[j], f1, -1);
+                    let f1 = if f[k].is_nan() { s.3 } else { f[k] };
+                    *s = (s.0, if s.4 == -1 { 0.5 * s.1 } else { s.1 }, ts[k], f1, -1);
                 }
             }
+            let mut k = 0;
+            active.retain(|&j| {
+                let done = f[k] == 0.0 || (ts[k] - last[j]).abs() < ROOT_TOL;
+                last[j] = ts[k];
+                k += 1;
+                !done
+            });
         }
         let mut ge = GradEval::new(&brick.tape);
         for (j, (i, a, b)) in todo.iter().enumerate() {
