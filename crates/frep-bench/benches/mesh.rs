@@ -15,10 +15,19 @@
 //! the nearest triangle), points within one cell of the box faces left out (our caps lie on
 //! the box, fidget leaves the mesh open there).
 //!
-//! "reduced": our smallest mesh at fidget's error: watertight or dual contouring, simplified
-//! (meshopt, verified closed / manifold / oriented / same genus, and for watertight free of
-//! self-intersections; see `simplify_verified`) with the largest bound of 0.5, 0.25, 0.12,
-//! 0.06, 0.03, 0.015 cell whose measured H is at most fidget's H (or ours unsimplified when none is);
+//! "adaptive dc": dual contouring with `MeshSettings::adaptive` = 0.1 cell (blocks of
+//! 2×2×2, 4×4×4, … cubes collapsed to one vertex where that keeps the topology and every
+//! crossing's tangent plane within 0.1 cell of the vertex).
+//!
+//! "reduced": our smallest mesh at fidget's error, in model units: watertight, dual
+//! contouring or adaptive dual contouring (the largest threshold of 0.4, 0.2, 0.1, 0.05 cell
+//! that meets it, labelled `adc7/0.2`) at the row's depth `d` or at `d − 1`, `d − 2` (a
+//! coarser mesh whose error is below fidget's at `d` is as good a mesh at that error);
+//! watertight and dual contouring also simplified (meshopt, verified closed / manifold /
+//! oriented / same components and genus, and for watertight free of self-intersections; see
+//! `simplify_verified`) with the largest bound of 0.5, 0.25, 0.12, 0.06, 0.03, 0.015 cell of
+//! depth `d` whose measured H is at most fidget's H (labelled `dc6+s0.12`). Every candidate
+//! is measured with the row's samples, H in cells of the row's depth.
 //! its time is the meshing plus the simplification. Memory: the peak of live heap bytes during
 //! the run (a counting global allocator), per output triangle.
 
@@ -29,6 +38,12 @@ use frep_core::{Inputs, Model};
 use frep_mesh::poly::error::SurfaceSamples;
 use frep_mesh::poly::simplify_verified;
 use frep_mesh::{polygonize, CancelToken, Mesh, MeshSettings, Method, Progress, Resolution};
+
+/// Thresholds of adaptive dual contouring tried for "reduced" (fractions of the cell), largest
+/// first.
+const ADAPTIVE: [f64; 4] = [0.4, 0.2, 0.1, 0.05];
+/// The threshold of the "adaptive dc" columns.
+const ADAPTIVE_COLUMN: f64 = 0.1;
 
 #[global_allocator]
 static ALLOC: Counting = Counting;
@@ -186,9 +201,9 @@ fn main() {
         std::thread::available_parallelism().map_or(1, |n| n.get())
     );
     println!(
-        "| model | d | ours wt ms | tris k | H | B/tri | ours dc ms | tris k | H | uniform mc ms | fidget ms | tris k | H | B/tri | reduced: ours | ms | tris k | H | fidget / ours time | reduced / fidget tris |"
+        "| model | d | ours wt ms | tris k | H | B/tri | ours dc ms | tris k | H | adaptive dc ms | tris k | H | uniform mc ms | fidget ms | tris k | H | B/tri | reduced: ours | ms | tris k | H | fidget / ours time | reduced / fidget tris |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     let inputs = Inputs::default();
     for c in &cases {
         for &d in &depths {
@@ -198,12 +213,13 @@ fn main() {
             let cell = ext / (1u64 << d) as f64;
             let samples = SurfaceSamples::new(&c.model, &inputs, c.bounds, d, cell);
             let h = |m: &Mesh| samples.error(m).hausdorff() / cell;
-            let settings = |method| MeshSettings {
+            let settings_at = |method, depth| MeshSettings {
                 bounds: c.bounds,
-                resolution: Resolution::Depth(d),
+                resolution: Resolution::Depth(depth),
                 method,
                 ..Default::default()
             };
+            let settings = |method| settings_at(method, d);
             let run = |s: &MeshSettings| {
                 polygonize(&c.model, s, &Progress::new(), &CancelToken::new()).expect("mesh")
             };
@@ -213,6 +229,12 @@ fn main() {
             let dc_s = settings(Method::DualContouring);
             let (t_dc, _, m_dc) = measure(reps, || run(&dc_s));
             let h_dc = h(&m_dc);
+            let adc_s = MeshSettings {
+                adaptive: Some(ADAPTIVE_COLUMN),
+                ..settings(Method::DualContouring)
+            };
+            let (t_adc, _, m_adc) = measure(reps, || run(&adc_s));
+            let h_adc = h(&m_adc);
             let mc = if d <= 7 {
                 let mc_s = settings(Method::MarchingCubes);
                 format!("{:.0}", measure(1, || run(&mc_s)).0 * 1e3)
@@ -238,32 +260,78 @@ fn main() {
                 }
                 None => "– | – | – | –".into(),
             };
-            // The smallest verified simplification at fidget's error (else ours unsimplified).
+            // The smallest of our meshes at fidget's error: wt or dc at this depth or one or
+            // two coarser (equal error is about model units, not the depth), unsimplified or
+            // simplified with a verified bound; every candidate is measured with this row's
+            // samples, H in this row's cells.
             let target = fid.map_or(h_wt.max(h_dc), |f| f.2);
             let mut best: Option<(String, f64, usize, f64)> = None;
-            for (label, base, t_base, h_base) in
-                [("dc", &m_dc, t_dc, h_dc), ("wt", &m_wt, t_wt, h_wt)]
-            {
-                if h_base <= target && best.as_ref().is_none_or(|b| base.triangles.len() < b.2) {
-                    best = Some((label.to_string(), t_base, base.triangles.len(), h_base));
+            let mut consider = |label: String, t: f64, tris: usize, hm: f64| {
+                if hm <= target && best.as_ref().is_none_or(|b| tris < b.2) {
+                    best = Some((label, t, tris, hm));
                 }
-                for frac in [0.5, 0.25, 0.12, 0.06, 0.03, 0.015] {
-                    let mut m = base.clone();
-                    let t0 = Instant::now();
-                    let kept = simplify_verified(&mut m, (frac * cell) as f32, label == "wt");
-                    let ts = t0.elapsed().as_secs_f64();
-                    let Some(e) = kept else { continue };
-                    let hs = h(&m);
-                    if hs <= target {
-                        if best.as_ref().is_none_or(|b| m.triangles.len() < b.2) {
-                            best = Some((
+            };
+            for dl in (d.saturating_sub(2).max(3)..=d).rev() {
+                let coarse = |method| -> (f64, Mesh) {
+                    let (t, _, m) = measure(reps, || run(&settings_at(method, dl)));
+                    (t, m)
+                };
+                // Adaptive dual contouring: the largest threshold that meets fidget's H.
+                for tol in ADAPTIVE {
+                    let (t, m) = if dl == d && tol == ADAPTIVE_COLUMN {
+                        (t_adc, m_adc.clone())
+                    } else {
+                        let s = MeshSettings {
+                            adaptive: Some(tol),
+                            ..settings_at(Method::DualContouring, dl)
+                        };
+                        let (t, _, m) = measure(reps, || run(&s));
+                        (t, m)
+                    };
+                    let hm = h(&m);
+                    if hm <= target {
+                        consider(format!("adc{dl}/{tol}"), t, m.triangles.len(), hm);
+                        break;
+                    }
+                }
+                let bases = if dl == d {
+                    vec![
+                        ("dc", t_dc, m_dc.clone(), h_dc),
+                        ("wt", t_wt, m_wt.clone(), h_wt),
+                    ]
+                } else {
+                    [("dc", Method::DualContouring), ("wt", Method::Watertight)]
+                        .into_iter()
+                        .map(|(l, method)| {
+                            let (t, m) = coarse(method);
+                            let hm = h(&m);
+                            (l, t, m, hm)
+                        })
+                        .collect()
+                };
+                for (label, t_base, base, h_base) in bases {
+                    let label = format!("{label}{dl}");
+                    consider(label.clone(), t_base, base.triangles.len(), h_base);
+                    for frac in [0.5, 0.25, 0.12, 0.06, 0.03, 0.015] {
+                        let mut m = base.clone();
+                        let t0 = Instant::now();
+                        let kept = simplify_verified(
+                            &mut m,
+                            (frac * cell) as f32,
+                            label.starts_with("wt"),
+                        );
+                        let ts = t0.elapsed().as_secs_f64();
+                        let Some(e) = kept else { continue };
+                        let hs = h(&m);
+                        if hs <= target {
+                            consider(
                                 format!("{label}+s{:.2}", e as f64 / cell),
                                 t_base + ts,
                                 m.triangles.len(),
                                 hs,
-                            ));
+                            );
+                            break;
                         }
-                        break;
                     }
                 }
             }
@@ -285,7 +353,7 @@ fn main() {
                 ),
             };
             println!(
-                "| {} | {d} | {:.0} | {:.0} | {:.2} | {:.0} | {:.0} | {:.0} | {:.2} | {mc} | {fid_cols} | {red} |",
+                "| {} | {d} | {:.0} | {:.0} | {:.2} | {:.0} | {:.0} | {:.0} | {:.2} | {:.0} | {:.0} | {:.2} | {mc} | {fid_cols} | {red} |",
                 c.name,
                 t_wt * 1e3,
                 m_wt.triangles.len() as f64 / 1e3,
@@ -294,6 +362,9 @@ fn main() {
                 t_dc * 1e3,
                 m_dc.triangles.len() as f64 / 1e3,
                 h_dc,
+                t_adc * 1e3,
+                m_adc.triangles.len() as f64 / 1e3,
+                h_adc,
             );
         }
     }

@@ -47,6 +47,12 @@ pub struct Options {
     /// Error-bounded simplification after meshing, as a fraction of the cell size.
     #[arg(long)]
     pub simplify: Option<f64>,
+    /// Adaptive dual contouring (with --method dc): blocks of 2x2x2, 4x4x4, ... cells whose
+    /// one vertex stays within this fraction of the cell size of all their crossings' tangent
+    /// planes, and whose collapse keeps the topology, become one vertex (e.g. 0.1: big polygons
+    /// on flat regions, still a closed 2-manifold).
+    #[arg(long)]
+    pub adaptive: Option<f64>,
     /// No progress bar or box report.
     #[arg(short, long)]
     pub quiet: bool,
@@ -65,6 +71,14 @@ pub fn run(o: Options) -> anyhow::Result<ExitCode> {
         "mc" => Method::MarchingCubes,
         m => bail!("unknown method {m:?} (dc, watertight or mc)"),
     };
+    if let Some(t) = o.adaptive {
+        if method != Method::DualContouring {
+            bail!("--adaptive needs --method dc");
+        }
+        if !(t >= 0.0 && t.is_finite()) {
+            bail!("--adaptive takes a fraction of the cell size >= 0, not {t}");
+        }
+    }
     let (source, model) = match crate::load(&o.model, o.body)? {
         Ok(m) => m,
         Err(rendered) => {
@@ -84,6 +98,7 @@ pub fn run(o: Options) -> anyhow::Result<ExitCode> {
         resolution,
         method,
         simplify: o.simplify,
+        adaptive: o.adaptive,
         colors: true,
         inputs,
         ..Default::default()

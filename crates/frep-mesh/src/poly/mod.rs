@@ -30,9 +30,19 @@
 //!   ([`table::DualCase`]): otherwise two such polygons of neighbouring cubes would share two
 //!   segments and their vertices a doubled (non-manifold) edge. The edges at a chord's ends
 //!   get a fan around their crossing instead of a quad. The QEF minimizer may leave its cube
-//!   by half a cell (a union's crease often runs through cubes whose samples all lie on one
-//!   side, next to the cubes that see both sheets), then a few Newton steps move the vertex
+//!   by one cell (a union's groove less than a cell deep runs through cubes whose samples all
+//!   lie on one side, next to the cubes that see both sheets), then a few Newton steps move the vertex
 //!   onto the surface (a vertex on a crease does not move).
+//!
+//!   **Adaptive** ([`MeshSettings::adaptive`]): within each brick, blocks of 2×2×2, then
+//!   4×4×4, 8×8×8 cubes collapse to one vertex, bottom-up, when their sub-blocks did, the
+//!   block is topologically one cube (Ju et al. 2002: one polygon, no ambiguous face, the
+//!   signs in the middle of its edges and faces and at its centre those of one of their
+//!   corners) and the vertex of the merged QEF lies within the threshold of every crossing's
+//!   tangent plane. The quads are still made per cube edge on the finest lattice, with the
+//!   vertex keys of a collapsed block's cubes mapped to its one vertex: the quads inside the
+//!   block vanish, those across its faces become triangles, so the mesh is still the closed
+//!   2-manifold dual of the (now adaptive) cells.
 //! - [`Method::MarchingCubes`]: the classic baseline: uniform grid, no pruning, no
 //!   simplification, linear interpolation, normals from the triangles.
 
@@ -108,6 +118,12 @@ pub struct MeshSettings {
     /// Error-bounded simplification after meshing, the bound as a fraction of the cell size
     /// (e.g. 0.1); needs the `export` feature (meshopt). `None`: off.
     pub simplify: Option<f64>,
+    /// Adaptive dual contouring: blocks of 2×2×2, 4×4×4, … cubes (up to a brick) whose merged
+    /// QEF's vertex lies within this fraction of the cell size of every crossing's tangent
+    /// plane, and whose collapse is topologically safe, get one vertex (bigger polygons on flat
+    /// regions; the mesh stays a closed 2-manifold). [`Method::DualContouring`] only (ignored
+    /// by the other methods); `None`: off.
+    pub adaptive: Option<f64>,
     /// Per-vertex colours from the attributes `s[1..3]` (when the model declares `s`).
     pub colors: bool,
     /// Parameters `a[]` and extra coordinates.
@@ -125,6 +141,7 @@ impl Default for MeshSettings {
             resolution: Resolution::Depth(6),
             method: Method::default(),
             simplify: None,
+            adaptive: None,
             colors: true,
             inputs: Inputs::default(),
             limits: Limits::default(),
@@ -223,10 +240,12 @@ const BRICK: i32 = 8;
 const MAX_BRICKS: i32 = 128;
 /// Vertices stay this fraction of an edge away from its ends (no coincident vertices).
 const EDGE_MARGIN: f64 = 0.01;
-/// Regula falsi steps on each crossing edge.
-const ROOT_STEPS: usize = 8;
-/// How far (in cells) a dual-contouring vertex may leave its cube.
-const DC_SLACK: f64 = 0.5;
+/// Regula falsi steps on each crossing edge, at most.
+const ROOT_STEPS: usize = 12;
+/// A crossing is found when its estimate moves by less than this fraction of the edge.
+const ROOT_TOL: f64 = 1e-6;
+/// How far (in cells) a dual-contouring vertex may leave its cube (its QEF's box).
+const DC_SLACK: f64 = 1.0;
 /// Newton steps that move a dual-contouring vertex onto the surface.
 const SNAP_STEPS: usize = 3;
 
@@ -395,6 +414,8 @@ struct Ctx<'a> {
     cancel: &'a CancelToken,
     /// Number of colour channels to evaluate (0: none).
     colors: usize,
+    /// [`MeshSettings::adaptive`].
+    adaptive: Option<f64>,
 }
 
 #[cfg(feature = "parallel")]
@@ -657,6 +678,9 @@ struct BrickOut {
     triangles: Vec<[u64; 3]>,
     /// Dual contouring: quads of vertex keys, counter-clockwise from outside.
     quads: Vec<[u64; 4]>,
+    /// Adaptive dual contouring: `(key, merged vertex's key)` of the vertices of collapsed
+    /// blocks.
+    aliases: Vec<(u64, u64)>,
 }
 
 struct EdgeRec {
@@ -748,24 +772,40 @@ impl Ctx<'_> {
         zs.truncate(n);
         f.truncate(n);
         let mut ts = vec![0.0; n];
+        // Edges still searched: an edge whose estimate moved by less than `ROOT_TOL` of the
+        // edge (or that hit `f = 0`) is done and leaves the batch.
+        let mut active: Vec<usize> = (0..n).collect();
+        let mut last = vec![f64::NAN; n];
         for _ in 0..ROOT_STEPS {
-            for (j, (_, a, b)) in todo.iter().enumerate() {
-                let t = next_t(&st[j]);
-                ts[j] = t;
-                xs[j] = a[0] + t * (b[0] - a[0]);
-                ys[j] = a[1] + t * (b[1] - a[1]);
-                zs[j] = a[2] + t * (b[2] - a[2]);
+            let m = active.len();
+            if m == 0 {
+                break;
             }
-            be.eval(&xs, &ys, &zs, self.inputs, &mut f);
-            for j in 0..n {
+            for (k, &j) in active.iter().enumerate() {
+                let (a, b) = (todo[j].1, todo[j].2);
+                let t = next_t(&st[j]);
+                ts[k] = t;
+                xs[k] = a[0] + t * (b[0] - a[0]);
+                ys[k] = a[1] + t * (b[1] - a[1]);
+                zs[k] = a[2] + t * (b[2] - a[2]);
+            }
+            be.eval(&xs[..m], &ys[..m], &zs[..m], self.inputs, &mut f[..m]);
+            for (k, &j) in active.iter().enumerate() {
                 let s = &mut st[j];
-                if f[j] >= 0.0 {
-                    *s = (ts[j], f[j], s.2, if s.4 == 1 { 0.5 * s.3 } else { s.3 }, 1);
+                if f[k] >= 0.0 {
+                    *s = (ts[k], f[k], s.2, if s.4 == 1 { 0.5 * s.3 } else { s.3 }, 1);
                 } else {
-                    let f1 = if f[j].is_nan() { s.3 } else { f[j] };
-                    *s = (s.0, if s.4 == -1 { 0.5 * s.1 } else { s.1 }, ts[j], f1, -1);
+                    let f1 = if f[k].is_nan() { s.3 } else { f[k] };
+                    *s = (s.0, if s.4 == -1 { 0.5 * s.1 } else { s.1 }, ts[k], f1, -1);
                 }
             }
+            let mut k = 0;
+            active.retain(|&j| {
+                let done = f[k] == 0.0 || (ts[k] - last[j]).abs() < ROOT_TOL;
+                last[j] = ts[k];
+                k += 1;
+                !done
+            });
         }
         let mut ge = GradEval::new(&brick.tape);
         for (j, (i, a, b)) in todo.iter().enumerate() {
@@ -802,6 +842,188 @@ impl Ctx<'_> {
             x = y;
         }
         x
+    }
+
+    /// Adaptive dual contouring ([`MeshSettings::adaptive`]): the blocks of 2×2×2, 4×4×4, …
+    /// cubes of brick `o` that collapse to one vertex, as `cube's vertex key → (merged
+    /// vertex's key, position, normal)`. Bottom-up (Ju et al. 2002, "Dual Contouring of Hermite
+    /// Data", §4.2), a block of side `S` collapses when
+    /// - its 8 sub-blocks are empty or collapsed (cubes: one polygon), and all its samples are
+    ///   real (no cap);
+    /// - as one cube (its 8 corner samples) it has one polygon and no ambiguous face;
+    /// - its topology is the coarse cube's: the sample in the middle of each coarse edge has
+    ///   the sign of one of the edge's ends, the one in the middle of each face the sign of
+    ///   one of the face's corners, the centre the sign of one of the corners (the finer
+    ///   samples were checked by the sub-blocks);
+    /// - the vertex of the QEF of all its crossings, snapped onto the surface, lies within
+    ///   `tol` cell of every crossing's tangent plane.
+    #[allow(clippy::too_many_arguments)]
+    fn collapse(
+        &self,
+        ge: &mut GradEval,
+        o: [i32; 3],
+        sign: &[bool],
+        cubes: &[([i32; 3], usize, [u32; 12])],
+        pos: &[[f64; 3]],
+        nrm: &[[f64; 3]],
+        tol: f64,
+    ) -> KeyMap<(u64, [f64; 3], [f64; 3])> {
+        /// A block: no surface, not collapsible, or collapsed (its cubes' vertex keys and
+        /// crossings).
+        #[derive(Clone)]
+        enum Block {
+            Empty,
+            Blocked,
+            Merged(Vec<u64>, Vec<u32>),
+        }
+        let g = &self.grid;
+        let b = g.brick;
+        let e = (b + 2) as usize;
+        let at = |p: [i32; 3]| {
+            sign[(p[0] - o[0] + 1) as usize
+                + e * ((p[1] - o[1] + 1) as usize + e * (p[2] - o[2] + 1) as usize)]
+        };
+        let dual = table::dual_cases();
+        let h = g.h.iter().fold(0.0f64, |a, &c| a.max(c));
+        let idx = |k: [i32; 3], n: i32| (k[0] + n * (k[1] + n * k[2])) as usize;
+        // Level 0: the cubes of the brick.
+        let mut level = vec![Block::Empty; (b * b * b) as usize];
+        for (q, mask, local) in cubes {
+            let k = [0, 1, 2].map(|a| q[a] - o[a]);
+            if k.iter().any(|&c| c < 0 || c >= b) {
+                continue;
+            }
+            level[idx(k, b)] = match &dual[*mask].polygons[..] {
+                [poly] => Block::Merged(
+                    vec![point_key(*q) << 3],
+                    poly.iter().map(|&ei| local[ei as usize]).collect(),
+                ),
+                _ => Block::Blocked,
+            };
+        }
+        let mut out = KeyMap::default();
+        let (mut pts, mut ns) = (Vec::new(), Vec::new());
+        let mut side = 2;
+        while side <= b {
+            let n = b / side;
+            let mut next = vec![Block::Empty; (n * n * n) as usize];
+            for kz in 0..n {
+                for ky in 0..n {
+                    for kx in 0..n {
+                        let k = [kx, ky, kz];
+                        let q0 = [0, 1, 2].map(|a| o[a] + side * k[a]);
+                        let subs: Vec<&Block> = OFFS
+                            .iter()
+                            .map(|off| &level[idx([0, 1, 2].map(|a| 2 * k[a] + off[a]), 2 * n)])
+                            .collect();
+                        let blocked = subs.iter().any(|s| matches!(s, Block::Blocked))
+                            || (subs.iter().any(|s| matches!(s, Block::Merged(..)))
+                                && !self.coarse_ok(&at, q0, side));
+                        next[idx(k, n)] = if blocked {
+                            Block::Blocked
+                        } else {
+                            let (mut members, mut edges) = (Vec::new(), Vec::new());
+                            for s in subs {
+                                if let Block::Merged(m, es) = s {
+                                    members.extend_from_slice(m);
+                                    edges.extend_from_slice(es);
+                                }
+                            }
+                            edges.sort_unstable();
+                            edges.dedup();
+                            if members.is_empty() {
+                                Block::Empty
+                            } else if members.len() == 1 {
+                                Block::Merged(members, edges)
+                            } else {
+                                pts.clear();
+                                ns.clear();
+                                let mut avg = [0.0; 3];
+                                for &v in &edges {
+                                    pts.push(pos[v as usize]);
+                                    ns.push(nrm[v as usize]);
+                                    for c in 0..3 {
+                                        avg[c] += nrm[v as usize][c];
+                                    }
+                                }
+                                let lo = [0, 1, 2].map(|a| g.coord(a, q0[a]) - DC_SLACK * g.h[a]);
+                                let hi =
+                                    [0, 1, 2].map(|a| g.coord(a, q0[a] + side) + DC_SLACK * g.h[a]);
+                                let x = self.snap(ge, qef::solve(&pts, &ns, lo, hi), lo, hi);
+                                let far = pts.iter().zip(&ns).any(|(p, nr)| {
+                                    let d = (0..3).map(|c| nr[c] * (x[c] - p[c])).sum::<f64>();
+                                    d.is_nan() || d.abs() > tol * h
+                                });
+                                if far {
+                                    Block::Blocked
+                                } else {
+                                    let rep = members[0];
+                                    for &m in &members {
+                                        out.insert(m, (rep, x, norm(avg)));
+                                    }
+                                    Block::Merged(members, edges)
+                                }
+                            }
+                        };
+                    }
+                }
+            }
+            level = next;
+            side *= 2;
+        }
+        out
+    }
+
+    /// Whether the block of `side` cubes at `q0` is one coarse cube topologically (see
+    /// [`Ctx::collapse`]): real samples, one polygon, no ambiguous face, the signs in the
+    /// middle of its edges and faces and at its centre those of one of their corners.
+    fn coarse_ok(&self, at: &impl Fn([i32; 3]) -> bool, q0: [i32; 3], side: i32) -> bool {
+        let g = &self.grid;
+        if (0..3).any(|a| q0[a] + side >= g.n[a]) {
+            return false;
+        }
+        let half = side / 2;
+        let corner = |c: usize| add(q0, OFFS[c].map(|v| side * v));
+        let mut cm = 0usize;
+        for c in 0..8 {
+            cm |= (at(corner(c)) as usize) << c;
+        }
+        if cm == 0 || cm == 255 || cases()[cm].polygons() != 1 {
+            return false;
+        }
+        for (c0, off0) in OFFS.iter().enumerate() {
+            for a in 0..3 {
+                let c1 = c0 | 1 << a;
+                if c1 == c0 {
+                    continue;
+                }
+                let (s0, s1) = (at(corner(c0)), at(corner(c1)));
+                let mid = at(add(q0, add(*off0, OFFS[c1]).map(|v| half * v)));
+                if s0 == s1 && mid != s0 {
+                    return false;
+                }
+            }
+        }
+        for a in 0..3 {
+            for sd in 0..2 {
+                let cs: Vec<usize> = (0..8).filter(|c| (c >> a) & 1 == sd).collect();
+                let mut centre = q0.map(|v| v + half);
+                centre[a] = q0[a] + side * sd as i32;
+                let sc = at(centre);
+                if !cs.iter().any(|&c| at(corner(c)) == sc) {
+                    return false;
+                }
+                // Two inside corners on a diagonal (their indices differ in two bits).
+                let inside: Vec<usize> = cs.iter().copied().filter(|&c| at(corner(c))).collect();
+                if let [i, j] = inside[..] {
+                    if (i ^ j).count_ones() == 2 {
+                        return false;
+                    }
+                }
+            }
+        }
+        let sc = at(q0.map(|v| v + half));
+        (0..8).any(|c| at(corner(c)) == sc)
     }
 
     fn colors_at(&self, brick: Option<&Brick>, pts: &[[f64; 3]]) -> Vec<[f32; 3]> {
@@ -978,11 +1200,27 @@ impl Ctx<'_> {
         let mut pts = Vec::new();
         let mut ns = Vec::new();
         let mut dc_pos = Vec::new();
+        let merged = match (self.adaptive, ge.as_mut()) {
+            (Some(t), Some(ge)) => self.collapse(ge, o, &sign, &cubes, &pos, &nrm, t),
+            _ => KeyMap::default(),
+        };
         for (q, mask, local) in &cubes {
             let case = &dual[*mask];
-            // Vertices may leave their cube by a fraction of a cell: a crease (a groove of a
-            // union) can run just outside the cubes whose crossings see both of its sheets,
-            // through cubes whose samples all lie on one side.
+            let key = point_key(*q) << 3;
+            if let Some(&(rep, x, n)) = merged.get(&key) {
+                if rep == key {
+                    dc_pos.push(x);
+                    out.keys.push(key);
+                    out.positions.push(x.map(|c| c as f32));
+                    out.normals.push(n.map(|c| c as f32));
+                } else {
+                    out.aliases.push((key, rep));
+                }
+            }
+            // Vertices may leave their cube by up to a cell: a crease (a groove of a union)
+            // can run outside the cubes whose crossings see both of its sheets, through cubes
+            // whose samples all lie inside (M2's necks: with half a cell, the groove was cut
+            // off by 0.25 cell at depth 7).
             // Not on the box: cap vertices stay on its faces.
             let slack = if g.is_virtual(*q) || g.is_virtual(add(*q, [1, 1, 1])) {
                 0.0
@@ -992,6 +1230,9 @@ impl Ctx<'_> {
             let lo = [0, 1, 2].map(|k| g.coord(k, q[k]) - slack * g.h[k]);
             let hi = [0, 1, 2].map(|k| g.coord(k, q[k] + 1) + slack * g.h[k]);
             for (k, poly) in case.polygons.iter().enumerate() {
+                if merged.contains_key(&key) {
+                    break;
+                }
                 pts.clear();
                 ns.clear();
                 let mut avg = [0.0; 3];
@@ -1118,6 +1359,7 @@ fn run(
         progress,
         cancel,
         colors,
+        adaptive: settings.adaptive,
     };
     let nb = grid.nb as usize;
     let total = (nb * nb * nb) as u64;
@@ -1217,6 +1459,13 @@ fn run(
         o.normals = Vec::new();
         o.colors = Vec::new();
     }
+    for o in &mut outs {
+        for (key, rep) in std::mem::take(&mut o.aliases) {
+            if let Some(&i) = index.get(&rep) {
+                index.insert(key, i);
+            }
+        }
+    }
     let ntri: usize = outs
         .iter()
         .map(|o| o.triangles.len() + 2 * o.quads.len())
@@ -1229,13 +1478,31 @@ fn run(
     for o in &outs {
         for t in &o.triangles {
             if let [Some(a), Some(b), Some(c)] = t.each_ref().map(look) {
-                mesh.triangles.push([a, b, c]);
+                // Two ends merged by a collapsed block: the triangle is gone.
+                if a != b && b != c && c != a {
+                    mesh.triangles.push([a, b, c]);
+                }
             }
         }
         for q in &o.quads {
             let [Some(a), Some(b), Some(c), Some(d)] = q.each_ref().map(look) else {
                 continue;
             };
+            if a == b || b == c || c == d || d == a || a == c || b == d {
+                // Around an edge on a collapsed block's face one side is merged: a triangle;
+                // inside the block it is gone.
+                let mut v = vec![a, b, c, d];
+                v.dedup();
+                if v.len() > 1 && v[0] == v[v.len() - 1] {
+                    v.pop();
+                }
+                if let [x, y, z] = v[..] {
+                    if x != z {
+                        mesh.triangles.push([x, y, z]);
+                    }
+                }
+                continue;
+            }
             let p = |i: u32| crate::mesh::to_f64(mesh.positions[i as usize]);
             let tri_n = |x: u32, y: u32, z: u32| {
                 norm(crate::mesh::cross(
