@@ -11,7 +11,8 @@
 //! Both use rayon's global pool (all cores of the machine).
 //!
 //! H: [`SurfaceSamples`]' symmetric Hausdorff estimate in cells (mesh points projected onto
-//! the surface by Newton steps; dense surface points, the lattice crossings at depth + 1, to
+//! the surface by Newton steps, lowered to the nearest sign change along a fan of 256 rays
+//! where that is nearer; dense surface points, the lattice crossings at depth + 1, to
 //! the nearest triangle), points within one cell of the box faces left out (our caps lie on
 //! the box, fidget leaves the mesh open there).
 //!

@@ -484,6 +484,26 @@ fn surface_error_measures_both_directions() {
 }
 
 #[test]
+fn surface_error_is_not_led_astray_by_a_weak_gradient() {
+    // The union of z ≤ 0 and x ≤ 0, the second with a field of gradient 0.01: at (0.5, 0, 0.1)
+    // the larger (active) field is the weak one, and Newton steps along its gradient travel
+    // 0.5 to the plane x = 0, while the surface z = 0 is 0.1 away (formerly measured 0.5).
+    use frep_mesh::poly::error::SurfaceSamples;
+    let m = Model::compile("my_model(x[3], a[1]) { my_model = max(-x[3], -0.01 * x[1]); }")
+        .expect("compiles");
+    let b = [-1.0, -1.0, -1.0, 1.0, 1.0, 1.0];
+    let samples = SurfaceSamples::new(&m, &Inputs::default(), b, 4, 0.0);
+    let p = [0.5f32, 0.0, 0.1];
+    let tri = Mesh {
+        positions: vec![p, [0.5, 0.01, 0.1], [0.51, 0.0, 0.1]],
+        triangles: vec![[0, 1, 2]],
+        ..Default::default()
+    };
+    let e = samples.error(&tri);
+    assert!((e.mesh_to_surface - 0.1).abs() < 0.002, "{e:?}");
+}
+
+#[test]
 fn dual_contouring_vertices_lie_on_creases() {
     // R-union of ten spheres: every crease is sharp (the R-union's zero set is the union's).
     use frep_mesh::poly::error::SurfaceSamples;

@@ -4,7 +4,11 @@
 //!   midpoints) are projected onto the surface `f = 0` by Newton steps along `∇f`
 //!   (`p ← p − f ∇f / |∇f|²`, each step at most one cell); the distance travelled is the
 //!   point's error. Unlike the first-order `|f| / |∇f|`, this stays right for fields that are
-//!   not distances (R-functions, squared distances) away from the surface.
+//!   not distances (R-functions, squared distances) away from the surface. A Newton path
+//!   follows `∇f`, which where the gradient is small (a saddle of an R-function's field) can
+//!   lead far from the nearest surface point: the distance to the nearest sign change along a
+//!   fan of 256 rays, also an upper bound, is taken where it is smaller (checked for the
+//!   points that decide the maximum).
 //! - **surface → mesh**: dense surface points, the edge crossings of the lattice at twice the
 //!   resolution (the vertices of [`Method::Watertight`] at `depth + 1`, projected the same
 //!   way), each measured to its nearest triangle (a uniform grid of triangles).
@@ -81,20 +85,108 @@ fn farther(a: (f64, [f64; 3]), b: (f64, [f64; 3])) -> (f64, [f64; 3]) {
     }
 }
 
-/// Largest projection distance over `pts` (in parallel chunks), and where.
+/// Ray directions of [`ray_distance`]: a Fibonacci sphere.
+const RAYS: usize = 256;
+/// Samples per cell along each ray of [`ray_distance`].
+const RAY_STEPS_PER_CELL: f64 = 16.0;
+
+/// The distance from `p` to the nearest sign change of `f` along [`RAYS`] directions, searched
+/// up to `limit` (then bisected): an upper bound on the distance to the surface, like the
+/// Newton projection's, but not led astray where the gradient is small or turns (a Newton
+/// path follows `∇f`, which near a saddle of an R-function's field points far from the nearest
+/// surface point). `limit` when no ray changes sign before it.
+fn ray_distance(ge: &mut GradEval, inputs: &Inputs, p: [f64; 3], limit: f64, cell: f64) -> f64 {
+    let f0 = ge.eval(p[0], p[1], p[2], inputs).v;
+    if !f0.is_finite() || f0 == 0.0 {
+        return if f0 == 0.0 { 0.0 } else { limit };
+    }
+    let step = cell / RAY_STEPS_PER_CELL;
+    let steps = (limit / step).ceil() as usize;
+    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+    let mut best = limit;
+    for i in 0..RAYS {
+        let z = 1.0 - 2.0 * (i as f64 + 0.5) / RAYS as f64;
+        let r = (1.0 - z * z).sqrt();
+        let (s, c) = (golden * i as f64).sin_cos();
+        let dir = [r * c, r * s, z];
+        let at = |t: f64| [0, 1, 2].map(|k| p[k] + t * dir[k]);
+        let mut t0 = 0.0;
+        for k in 1..=steps {
+            let t1 = (k as f64 * step).min(best);
+            if t1 <= t0 {
+                break;
+            }
+            let q = at(t1);
+            let v = ge.eval(q[0], q[1], q[2], inputs).v;
+            if !v.is_finite() {
+                // NaN or infinity: no zero can be told from a pole here.
+                break;
+            }
+            if (v >= 0.0) != (f0 >= 0.0) {
+                // A crossing in (t0, t1]: bisect.
+                let (mut a, mut b) = (t0, t1);
+                for _ in 0..30 {
+                    let m = 0.5 * (a + b);
+                    let q = at(m);
+                    let v = ge.eval(q[0], q[1], q[2], inputs).v;
+                    if v.is_finite() && (v >= 0.0) == (f0 >= 0.0) {
+                        a = m;
+                    } else {
+                        b = m;
+                    }
+                }
+                best = best.min(b);
+                break;
+            }
+            t0 = t1;
+        }
+    }
+    best
+}
+
+/// Largest distance to the surface over `pts`, and where: each point's Newton projection
+/// distance (first-order `|f| / |∇f|` where it does not converge), lowered to the nearest sign
+/// change along a fan of rays ([`ray_distance`], also an upper bound) for the points that could
+/// be the largest: in decreasing order of the projection distance until it falls below the
+/// largest refined distance.
 fn max_projection(tape: &Tape, inputs: &Inputs, pts: &[[f64; 3]], cell: f64) -> (f64, [f64; 3]) {
     let chunks: Vec<&[[f64; 3]]> = pts.chunks(4096).collect();
-    par_map(&chunks, |c| {
+    let mut dist: Vec<(f64, [f64; 3])> = par_map(&chunks, |c| {
         let mut ge = GradEval::new(tape);
         c.iter()
             .map(|&p| match project(&mut ge, inputs, p, cell) {
                 Some((_, d)) => (d, p),
                 None => (first_order(&mut ge, inputs, p), p),
             })
-            .fold((0.0f64, [0.0; 3]), farther)
+            .collect::<Vec<_>>()
     })
     .into_iter()
-    .fold((0.0, [0.0; 3]), farther)
+    .flatten()
+    .collect();
+    dist.sort_by(|a, b| b.0.total_cmp(&a.0));
+    let mut best = (0.0f64, [0.0; 3]);
+    // A point whose projection distance is at most the largest refined one cannot be the
+    // maximum (refining only lowers it): refined in parallel batches until then.
+    for batch in dist.chunks(64) {
+        let todo: Vec<&[(f64, [f64; 3])]> = batch
+            .iter()
+            .position(|x| x.0 <= best.0)
+            .map_or(batch, |n| &batch[..n])
+            .chunks(8)
+            .collect();
+        if todo.is_empty() {
+            break;
+        }
+        best = par_map(&todo, |c| {
+            let mut ge = GradEval::new(tape);
+            c.iter()
+                .map(|&(d, p)| (ray_distance(&mut ge, inputs, p, d, cell), p))
+                .fold((0.0f64, [0.0; 3]), farther)
+        })
+        .into_iter()
+        .fold(best, farther);
+    }
+    best
 }
 
 fn closest_on_triangle(p: [f64; 3], a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> [f64; 3] {
