@@ -21,14 +21,16 @@
 //! crossing's tangent plane within 0.1 cell of the vertex).
 //!
 //! "reduced": our smallest mesh at fidget's error, in model units: watertight, dual
-//! contouring or adaptive dual contouring (the largest threshold of 0.4, 0.2, 0.1, 0.05 cell
-//! that meets it, labelled `adc7/0.2`) at the row's depth `d` or at `d − 1`, `d − 2` (a
-//! coarser mesh whose error is below fidget's at `d` is as good a mesh at that error);
+//! contouring or adaptive dual contouring (the largest threshold of 0.8, 0.6, 0.4, 0.3, 0.2,
+//! 0.14, 0.1, 0.07, 0.05 cell of its own depth that meets it, labelled `adc7/0.2`) at the
+//! row's depth `d` or at `d − 1`, `d − 2` (a coarser mesh whose error is below fidget's at `d`
+//! is as good a mesh at that error), and only where none of those meets it, at `d + 1` (up to
+//! depth 8: a finer mesh, adaptively reduced, can still have fewer triangles);
 //! watertight and dual contouring also simplified (meshopt, verified closed / manifold /
 //! oriented / same components and genus, and for watertight free of self-intersections; see
 //! `simplify_verified`) with the largest bound of 0.5, 0.25, 0.12, 0.06, 0.03, 0.015 cell of
 //! depth `d` whose measured H is at most fidget's H (labelled `dc6+s0.12`). Every candidate
-//! is measured with the row's samples, H in cells of the row's depth.
+//! is measured with the row's samples, H in cells of the row's depth;
 //! its time is the meshing plus the simplification. Memory: the peak of live heap bytes during
 //! the run (a counting global allocator), per output triangle.
 
@@ -42,7 +44,7 @@ use frep_mesh::{polygonize, CancelToken, Mesh, MeshSettings, Method, Progress, R
 
 /// Thresholds of adaptive dual contouring tried for "reduced" (fractions of the cell), largest
 /// first.
-const ADAPTIVE: [f64; 4] = [0.4, 0.2, 0.1, 0.05];
+const ADAPTIVE: [f64; 9] = [0.8, 0.6, 0.4, 0.3, 0.2, 0.14, 0.1, 0.07, 0.05];
 /// The threshold of the "adaptive dc" columns.
 const ADAPTIVE_COLUMN: f64 = 0.1;
 
@@ -267,12 +269,23 @@ fn main() {
             // samples, H in this row's cells.
             let target = fid.map_or(h_wt.max(h_dc), |f| f.2);
             let mut best: Option<(String, f64, usize, f64)> = None;
-            let mut consider = |label: String, t: f64, tris: usize, hm: f64| {
+            let consider = |best: &mut Option<(String, f64, usize, f64)>,
+                            label: String,
+                            t: f64,
+                            tris: usize,
+                            hm: f64| {
                 if hm <= target && best.as_ref().is_none_or(|b| tris < b.2) {
-                    best = Some((label, t, tris, hm));
+                    *best = Some((label, t, tris, hm));
                 }
             };
-            for dl in (d.saturating_sub(2).max(3)..=d).rev() {
+            // Depths d, d − 1, d − 2; then, only where none of those meets fidget's error,
+            // d + 1 (at most 8): a finer mesh reduced adaptively can still have fewer
+            // triangles.
+            let mut levels: Vec<u8> = (d.saturating_sub(2).max(3)..=d).rev().collect();
+            let mut li = 0;
+            while li < levels.len() {
+                let dl = levels[li];
+                li += 1;
                 let coarse = |method| -> (f64, Mesh) {
                     let (t, _, m) = measure(reps, || run(&settings_at(method, dl)));
                     (t, m)
@@ -291,7 +304,13 @@ fn main() {
                     };
                     let hm = h(&m);
                     if hm <= target {
-                        consider(format!("adc{dl}/{tol}"), t, m.triangles.len(), hm);
+                        consider(
+                            &mut best,
+                            format!("adc{dl}/{tol}"),
+                            t,
+                            m.triangles.len(),
+                            hm,
+                        );
                         break;
                     }
                 }
@@ -312,7 +331,13 @@ fn main() {
                 };
                 for (label, t_base, base, h_base) in bases {
                     let label = format!("{label}{dl}");
-                    consider(label.clone(), t_base, base.triangles.len(), h_base);
+                    consider(
+                        &mut best,
+                        label.clone(),
+                        t_base,
+                        base.triangles.len(),
+                        h_base,
+                    );
                     for frac in [0.5, 0.25, 0.12, 0.06, 0.03, 0.015] {
                         let mut m = base.clone();
                         let t0 = Instant::now();
@@ -326,6 +351,7 @@ fn main() {
                         let hs = h(&m);
                         if hs <= target {
                             consider(
+                                &mut best,
                                 format!("{label}+s{:.2}", e as f64 / cell),
                                 t_base + ts,
                                 m.triangles.len(),
@@ -334,6 +360,9 @@ fn main() {
                             break;
                         }
                     }
+                }
+                if li == levels.len() && best.is_none() && d < 8 && dl != d + 1 {
+                    levels.push(d + 1);
                 }
             }
             let red = match (&best, fid) {
