@@ -5,6 +5,7 @@
 //! and the caster's counters with `FREP_BENCH_STATS=1`.
 
 use frep_bench::alloc::{peak_during, Counting};
+use frep_bench::{bounds_line, example_sources, Args};
 use std::time::{Duration, Instant};
 
 use frep_core::Model;
@@ -15,37 +16,19 @@ use frep_render::{render_with, Aabb, Camera, ModelCaster, RenderSettings};
 static ALLOC: Counting = Counting;
 
 fn bounds_of(src: &str) -> Aabb {
-    src.lines()
-        .find_map(|l| l.trim().strip_prefix("-- bounds:"))
-        .map(|b| {
-            let v: Vec<f64> = b.split(',').map(|s| s.trim().parse().unwrap()).collect();
-            Aabb::new([v[0], v[1], v[2]], [v[3], v[4], v[5]])
-        })
-        .unwrap_or(Aabb::new([-10.0; 3], [10.0; 3]))
+    let v = bounds_line(src).unwrap_or([-10.0, -10.0, -10.0, 10.0, 10.0, 10.0]);
+    Aabb::new([v[0], v[1], v[2]], [v[3], v[4], v[5]])
 }
 
 fn main() {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let arg = |i: usize, d: &str| args.get(i).cloned().unwrap_or_else(|| d.to_string());
-    let filter = arg(0, "");
-    let size: u32 = arg(1, "512").parse().expect("size");
-    let view = arg(2, "turn");
-    let threads: usize = arg(3, "2").parse().expect("threads");
-    let reps: usize = arg(4, "5").parse().expect("reps");
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .expect("pool");
-    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples");
-    let mut files: Vec<String> = std::fs::read_dir(dir)
-        .expect("examples")
-        .filter_map(|e| e.ok())
-        .map(|e| e.file_name().to_string_lossy().into_owned())
-        .filter(|n| n.ends_with(".hf") && n.contains(filter.as_str()))
-        .collect();
-    files.sort();
-    for file in files {
-        let src = std::fs::read_to_string(format!("{dir}/{file}")).expect("source");
+    let args = Args::from_env();
+    let filter = args.get(0, "");
+    let size: u32 = args.num(1, "512");
+    let view = args.get(2, "turn");
+    let threads: usize = args.num(3, "2");
+    let reps: usize = args.num(4, "5");
+    let pool = Args::pool(threads);
+    for (file, src) in example_sources(&filter) {
         let model = Model::compile(&src).expect("compiles");
         let (bounds, cam) = if view == "top" {
             let cam = Camera::look_at(

@@ -58,6 +58,72 @@ pub fn grid_boxes(n: usize) -> Vec<[[f32; 2]; 3]> {
     boxes
 }
 
+/// The workspace's `examples/` folder.
+pub const EXAMPLES_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples");
+
+/// The example models (file name, source) whose file names contain `filter`, sorted by name.
+pub fn example_sources(filter: &str) -> Vec<(String, String)> {
+    let mut files: Vec<String> = std::fs::read_dir(EXAMPLES_DIR)
+        .expect("the workspace's examples folder")
+        .filter_map(|e| e.ok())
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".hf") && n.contains(filter))
+        .collect();
+    files.sort();
+    files
+        .into_iter()
+        .map(|f| {
+            let src =
+                std::fs::read_to_string(format!("{EXAMPLES_DIR}/{f}")).expect("example source");
+            (f, src)
+        })
+        .collect()
+}
+
+/// The box of an example's `-- bounds: x0,y0,z0,x1,y1,z1` line, if it has one.
+pub fn bounds_line(src: &str) -> Option<[f64; 6]> {
+    let b = src
+        .lines()
+        .find_map(|l| l.trim().strip_prefix("-- bounds:"))?;
+    let v: Vec<f64> = b.split(',').filter_map(|s| s.trim().parse().ok()).collect();
+    v.try_into().ok()
+}
+
+/// Positional command-line arguments of the timing examples, with defaults.
+pub struct Args(Vec<String>);
+
+impl Args {
+    /// The process's arguments after the program name.
+    pub fn from_env() -> Self {
+        Args(std::env::args().skip(1).collect())
+    }
+
+    /// Argument `i`, or `default` when absent.
+    pub fn get(&self, i: usize, default: &str) -> String {
+        self.0
+            .get(i)
+            .cloned()
+            .unwrap_or_else(|| default.to_string())
+    }
+
+    /// Argument `i` parsed as a number, or `default` when absent; exits with a message when malformed.
+    pub fn num<T: std::str::FromStr>(&self, i: usize, default: &str) -> T {
+        let v = self.get(i, default);
+        v.parse().unwrap_or_else(|_| {
+            eprintln!("argument {} ({v:?}) is not a number", i + 1);
+            std::process::exit(2)
+        })
+    }
+
+    /// A rayon pool of `threads` threads.
+    pub fn pool(threads: usize) -> rayon::ThreadPool {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("a thread pool")
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -248,6 +248,8 @@ const ROOT_TOL: f64 = 1e-6;
 const DC_SLACK: f64 = 1.0;
 /// Newton steps that move a dual-contouring vertex onto the surface.
 const SNAP_STEPS: usize = 3;
+/// Crossing normals are central differences over this fraction of a cell either side.
+const NORMAL_STEP: f64 = 1e-3;
 
 /// The sampling lattice.
 #[derive(Clone, Debug)]
@@ -807,13 +809,42 @@ impl Ctx<'_> {
                 !done
             });
         }
-        let mut ge = GradEval::new(&brick.tape);
         for (j, (i, a, b)) in todo.iter().enumerate() {
             let t = next_t(&st[j]).clamp(EDGE_MARGIN, 1.0 - EDGE_MARGIN);
-            let p = [0, 1, 2].map(|k| a[k] + t * (b[k] - a[k]));
-            pos[*i] = p;
-            let gr = ge.eval(p[0], p[1], p[2], self.inputs);
-            nrm[*i] = norm([-gr.dx, -gr.dy, -gr.dz]);
+            pos[*i] = [0, 1, 2].map(|k| a[k] + t * (b[k] - a[k]));
+        }
+        // Normals: central differences at `NORMAL_STEP` of a cell, all crossings of the brick
+        // in one batch (six points each); where they vanish or are not finite (a flat or
+        // singular field there), forward-mode differentiation.
+        let hs = g.h.map(|c| c * NORMAL_STEP);
+        let (mut xs, mut ys, mut zs) = (vec![0.0; 6 * n], vec![0.0; 6 * n], vec![0.0; 6 * n]);
+        for (j, (i, _, _)) in todo.iter().enumerate() {
+            let p = pos[*i];
+            for o in 0..6 {
+                let (ax, k) = (o / 2, 6 * j + o);
+                let mut q = p;
+                q[ax] += if o % 2 == 0 { hs[ax] } else { -hs[ax] };
+                (xs[k], ys[k], zs[k]) = (q[0], q[1], q[2]);
+            }
+        }
+        let mut f = vec![0.0; 6 * n];
+        be.eval(&xs, &ys, &zs, self.inputs, &mut f);
+        let mut ge: Option<GradEval> = None;
+        for (j, (i, _, _)) in todo.iter().enumerate() {
+            let v = &f[6 * j..6 * j + 6];
+            let d = [0, 1, 2].map(|k| -(v[2 * k] - v[2 * k + 1]) / hs[k]);
+            let mut nv = norm(d);
+            if nv == [0.0; 3] {
+                let p = pos[*i];
+                let gr = ge.get_or_insert_with(|| GradEval::new(&brick.tape)).eval(
+                    p[0],
+                    p[1],
+                    p[2],
+                    self.inputs,
+                );
+                nv = norm([-gr.dx, -gr.dy, -gr.dz]);
+            }
+            nrm[*i] = nv;
         }
         (pos, nrm)
     }
