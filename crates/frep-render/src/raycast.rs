@@ -269,9 +269,10 @@ struct Scratch {
     bytes: usize,
     attr: Option<BatchEval>,
     rays: Vec<RayInfo>,
-    /// Per ray, its depth range while it is live and unresolved, else
-    /// `[+∞, −∞]`.
-    zr: Vec<[f64; 2]>,
+    /// Per ray, its depth range `[z0s, z1s]` while it is live and
+    /// unresolved, else `[+∞, −∞]`.
+    z0s: Vec<f64>,
+    z1s: Vec<f64>,
     /// Rays whose hit still needs its normal (see [`TileCtx::flush_normals`]).
     need_normal: Vec<usize>,
     tails: Vec<Tail>,
@@ -311,7 +312,8 @@ impl Scratch {
             bytes: tape.len() * NODE_BYTES,
             attr: None,
             rays: Vec::new(),
-            zr: Vec::new(),
+            z0s: Vec::new(),
+            z1s: Vec::new(),
             need_normal: Vec::new(),
             tails: Vec::new(),
             xs: Vec::new(),
@@ -360,6 +362,12 @@ impl Scratch {
             inputs,
             &mut self.vals[..n],
         );
+    }
+
+    /// Takes ray `i` out of the depth ranges searched.
+    fn resolve(&mut self, i: usize) {
+        self.z0s[i] = f64::INFINITY;
+        self.z1s[i] = f64::NEG_INFINITY;
     }
 
     fn clear_points(&mut self) {
@@ -598,7 +606,8 @@ impl<'a> TileCtx<'a> {
         let rm = cam.rays(tile.width, tile.height);
         let n = (tile.w() * tile.h()) as usize;
         sc.rays.resize(n, RayInfo::default());
-        sc.zr.resize(n, [0.0; 2]);
+        sc.z0s.resize(n, 0.0);
+        sc.z1s.resize(n, 0.0);
         let mut k = 0;
         for py in tile.y0..tile.y1 {
             for px in tile.x0..tile.x1 {
@@ -617,10 +626,10 @@ impl<'a> TileCtx<'a> {
                     z1,
                     live,
                 };
-                sc.zr[k] = if live {
-                    [z0, z1]
+                (sc.z0s[k], sc.z1s[k]) = if live {
+                    (z0, z1)
                 } else {
-                    [f64::INFINITY, f64::NEG_INFINITY]
+                    (f64::INFINITY, f64::NEG_INFINITY)
                 };
                 k += 1;
             }
@@ -706,15 +715,40 @@ impl<'a> TileCtx<'a> {
     /// The depth range of the unresolved live rays of `rect` within
     /// `[za, zb]`, if any.
     fn active_range(&self, rect: Rect, za: f64, zb: f64) -> Option<(f64, f64)> {
+        // Branch-free (and so vectorised, four rays at a time): a ray
+        // outside `[za, zb]` (resolved and dead ones included: `[+∞, −∞]`)
+        // contributes `+∞` to the minimum and `−∞` to the maximum. Depths
+        // are never NaN.
         let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+        let (mut l, mut h) = ([f64::INFINITY; 4], [f64::NEG_INFINITY; 4]);
         for y in rect.y0..rect.y1 {
             let row = (y * self.tw) as usize;
-            for &[z0, z1] in &self.sc.zr[row + rect.x0 as usize..row + rect.x1 as usize] {
+            let (a, b) = (row + rect.x0 as usize, row + rect.x1 as usize);
+            let (z0s, z1s) = (&self.sc.z0s[a..b], &self.sc.z1s[a..b]);
+            let mut c0 = z0s.chunks_exact(4);
+            let mut c1 = z1s.chunks_exact(4);
+            for (c0, c1) in (&mut c0).zip(&mut c1) {
+                for k in 0..4 {
+                    let (z0, z1) = (c0[k], c1[k]);
+                    let inside = z1 >= za && z0 <= zb;
+                    let a = if z0 > za { z0 } else { za };
+                    let b = if z1 < zb { z1 } else { zb };
+                    let a = if inside { a } else { f64::INFINITY };
+                    let b = if inside { b } else { f64::NEG_INFINITY };
+                    l[k] = if a < l[k] { a } else { l[k] };
+                    h[k] = if b > h[k] { b } else { h[k] };
+                }
+            }
+            for (&z0, &z1) in c0.remainder().iter().zip(c1.remainder()) {
                 if z1 >= za && z0 <= zb {
                     lo = lo.min(z0.max(za));
                     hi = hi.max(z1.min(zb));
                 }
             }
+        }
+        for k in 0..4 {
+            lo = lo.min(l[k]);
+            hi = hi.max(h[k]);
         }
         (lo <= hi).then_some((lo, hi))
     }
@@ -722,7 +756,7 @@ impl<'a> TileCtx<'a> {
     /// Records ray `i`'s hit.
     fn set_hit(&mut self, i: usize, h: Hit) {
         self.out[i] = Some(h);
-        self.sc.zr[i] = [f64::INFINITY, f64::NEG_INFINITY];
+        self.sc.resolve(i);
     }
 
     /// The evaluator of the tape `e` shortened for the box it was last
@@ -1134,12 +1168,14 @@ impl<'a> TileCtx<'a> {
         let sc = &mut *self.sc;
         for b in sc.brackets.drain(..) {
             self.out[b.ray] = Some(PENDING);
-            sc.zr[b.ray] = [f64::INFINITY, f64::NEG_INFINITY];
+            sc.z0s[b.ray] = f64::INFINITY;
+            sc.z1s[b.ray] = f64::NEG_INFINITY;
             sc.deferred.push((e as u32, b));
         }
         for d in sc.direct.drain(..) {
             self.out[d.0] = Some(PENDING);
-            sc.zr[d.0] = [f64::INFINITY, f64::NEG_INFINITY];
+            sc.z0s[d.0] = f64::INFINITY;
+            sc.z1s[d.0] = f64::NEG_INFINITY;
             sc.deferred_direct.push((e as u32, d));
         }
     }
