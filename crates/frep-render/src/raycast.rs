@@ -1216,34 +1216,32 @@ impl<'a> TileCtx<'a> {
         let step = self.caster.step_px.max(1e-3) * self.footprint(za).max(1e-300);
         let n = (((zb - za) / step).ceil() as usize).clamp(1, 4096);
         let min_len = self.min_len(step, za);
-        // Pending segments not followed by this slab: search them first
-        // (they are in front).
-        for y in rect.y0..rect.y1 {
-            for x in rect.x0..rect.x1 {
-                let i = (y * self.tw + x) as usize;
-                let r = &self.sc.rays[i];
-                let t = self.sc.tails[i];
-                if !r.live || self.out[i].is_some() || r.z1 < za || r.z0 > zb || !t.pending {
-                    continue;
-                }
-                if t.z_last != za.max(r.z0) {
-                    self.sc.tails[i].pending = false;
-                    self.sc.tail_list.push((i, t));
-                }
-            }
-        }
-        self.search_tails();
+        // The live unresolved rays of the leaf that reach its slab (a
+        // resolved or dead ray's range is `[+∞, −∞]`). Pending segments not
+        // followed by this slab are searched first (they are in front).
         let mut leaf_rays = std::mem::take(&mut self.sc.leaf_rays);
         leaf_rays.clear();
         for y in rect.y0..rect.y1 {
-            for x in rect.x0..rect.x1 {
-                let i = (y * self.tw + x) as usize;
-                let r = &self.sc.rays[i];
-                if !r.live || self.out[i].is_some() || r.z1 < za || r.z0 > zb {
+            let row = (y * self.tw) as usize;
+            for i in row + rect.x0 as usize..row + rect.x1 as usize {
+                let sc = &mut *self.sc;
+                let (z0, z1) = (sc.z0s[i], sc.z1s[i]);
+                if z1 < za || z0 > zb {
                     continue;
                 }
-                leaf_rays.push((i, za.max(r.z0), zb.min(r.z1)));
+                let t = &mut sc.tails[i];
+                if t.pending && t.z_last != za.max(z0) {
+                    t.pending = false;
+                    let t = *t;
+                    sc.tail_list.push((i, t));
+                }
+                leaf_rays.push((i, za.max(z0), zb.min(z1)));
             }
+        }
+        if !self.sc.tail_list.is_empty() {
+            self.search_tails();
+            let sc = &*self.sc;
+            leaf_rays.retain(|&(i, _, _)| sc.z0s[i] <= zb);
         }
         if leaf_rays.is_empty() {
             self.sc.leaf_rays = leaf_rays;
@@ -1252,19 +1250,26 @@ impl<'a> TileCtx<'a> {
         // Sample every ray at n + 1 depths, all rays in one batch.
         let sc = &mut *self.sc;
         sc.fracs.clear();
-        sc.fracs.extend((0..=n).map(|k| k as f64 / n as f64));
+        sc.fracs.extend((0..n + 1).map(|k| k as f64 / n as f64));
         let total = leaf_rays.len() * (n + 1);
         sc.set_points(total);
-        let mut o = 0;
-        for &(i, lo, hi) in &leaf_rays {
-            let r = &sc.rays[i];
-            let d = hi - lo;
-            for &f in &sc.fracs {
-                let z = lo + d * f;
-                sc.xs[o] = r.origin[0] + r.dz[0] * z;
-                sc.ys[o] = r.origin[1] + r.dz[1] * z;
-                sc.zs[o] = r.origin[2] + r.dz[2] * z;
-                o += 1;
+        {
+            let fr = &sc.fracs[..];
+            let xs = sc.xs[..total].chunks_exact_mut(n + 1);
+            let ys = sc.ys[..total].chunks_exact_mut(n + 1);
+            let zs = sc.zs[..total].chunks_exact_mut(n + 1);
+            for (((&(i, lo, hi), xs), ys), zs) in leaf_rays.iter().zip(xs).zip(ys).zip(zs) {
+                let r = &sc.rays[i];
+                let d = hi - lo;
+                let m = fr.len();
+                let (xs, ys, zs) = (&mut xs[..m], &mut ys[..m], &mut zs[..m]);
+                let ([ox, oy, oz], [dx, dy, dz]) = (r.origin, r.dz);
+                for k in 0..m {
+                    let t = lo + d * fr[k];
+                    xs[k] = ox + dx * t;
+                    ys[k] = oy + dy * t;
+                    zs[k] = oz + dz * t;
+                }
             }
         }
         self.stats.point_evals += total as u64;
@@ -1311,14 +1316,15 @@ impl<'a> TileCtx<'a> {
                         f64::NEG_INFINITY
                     };
                     let mut pending = false;
-                    for k in 0..=n {
-                        let left = if k > 0 { ord(v[k - 1]) } else { left0 };
+                    let (mut left, mut c) = (left0, ord(v[0]));
+                    #[allow(clippy::needless_range_loop)]
+                    for k in 0..n + 1 {
                         let right = if k < n {
                             ord(v[k + 1])
                         } else {
                             f64::NEG_INFINITY
                         };
-                        if local_max(left, ord(v[k]), right) {
+                        if local_max(left, c, right) {
                             if k == n && n > 0 && hi < sc.rays[i].z1 {
                                 pending = true;
                             } else {
@@ -1328,6 +1334,7 @@ impl<'a> TileCtx<'a> {
                             }
                             break;
                         }
+                        (left, c) = (c, right);
                     }
                     sc.tails[i] = Tail {
                         valid: true,
