@@ -946,34 +946,35 @@ impl<'a> TileCtx<'a> {
             return;
         }
         let need = std::mem::take(&mut sc.need_normal);
-        sc.clear_points();
+        sc.set_points(6 * need.len());
+        let mut o = 0;
         for &i in &need {
             let Some(h) = &self.out[i] else { continue };
             let z = h.t * sc.rays[i].c;
             let d = 0.5 * self.rm.pixel_footprint(z).max(1e-9 * (1.0 + z.abs()));
-            let p = h.position;
-            for k in 0..3 {
-                for s in [d, -d] {
-                    let mut q = p;
-                    q[k] += s;
-                    sc.push_point(q);
-                }
-            }
+            // p ± d along each axis in turn.
+            let [x, y, w] = h.position;
+            sc.xs[o..o + 6].copy_from_slice(&[x + d, x - d, x, x, x, x]);
+            sc.ys[o..o + 6].copy_from_slice(&[y, y, y + d, y - d, y, y]);
+            sc.zs[o..o + 6].copy_from_slice(&[w, w, w, w, w + d, w - d]);
+            o += 6;
         }
+        sc.np = o;
         self.stats.point_evals += sc.np as u64;
         sc.eval_points(e, &self.caster.inputs);
         let vals = std::mem::take(&mut self.sc.vals);
         let mut j = 0;
         for &i in &need {
-            let Some(h) = self.out[i] else { continue };
+            let Some(h) = &self.out[i] else { continue };
             let v = &vals[j * 6..j * 6 + 6];
             j += 1;
             let n = [-(v[0] - v[1]), -(v[2] - v[3]), -(v[4] - v[5])];
             let n = match unit(n) {
                 Some(n) => n,
                 None => {
+                    let (p, t) = (h.position, h.t);
                     let r = self.sc.rays[i];
-                    self.normal(e, &r, h.position, h.t * r.c)
+                    self.normal(e, &r, p, t * r.c)
                 }
             };
             if let Some(h) = &mut self.out[i] {
@@ -1381,6 +1382,7 @@ impl<'a> TileCtx<'a> {
             tol.push(REFINE_PX * self.footprint(b.lo));
         }
         let mut active: Vec<usize> = Vec::with_capacity(tol.len());
+        let mut trials: Vec<f64> = Vec::with_capacity(tol.len());
         let sc = &mut *self.sc;
         for _ in 0..REFINE {
             active.clear();
@@ -1391,17 +1393,19 @@ impl<'a> TileCtx<'a> {
             if active.is_empty() {
                 break;
             }
-            sc.clear_points();
-            for &j in &active {
+            sc.set_points(active.len());
+            trials.clear();
+            for (o, &j) in active.iter().enumerate() {
                 let b = &sc.brackets[j];
-                let p = sc.rays[b.ray].at_depth(b.trial());
-                sc.push_point(p);
+                let m = b.trial();
+                trials.push(m);
+                let [x, y, z] = sc.rays[b.ray].at_depth(m);
+                (sc.xs[o], sc.ys[o], sc.zs[o]) = (x, y, z);
             }
             self.stats.point_evals += sc.np as u64;
             sc.eval_points(e, &self.caster.inputs);
-            for (&j, &f) in active.iter().zip(&sc.vals) {
+            for ((&j, &f), &m) in active.iter().zip(&sc.vals).zip(&trials) {
                 let b = &mut sc.brackets[j];
-                let m = b.trial();
                 if f >= 0.0 {
                     b.hi = m;
                     b.f_hi = f;
