@@ -609,31 +609,42 @@ impl<'a> TileCtx<'a> {
         sc.z0s.resize(n, 0.0);
         sc.z1s.resize(n, 0.0);
         let mut k = 0;
-        for py in tile.y0..tile.y1 {
-            for px in tile.x0..tile.x1 {
-                let r = rm.ray(px, py);
-                let c = dot(r.dir, cam.forward).max(1e-12);
-                let (z0, z1, live) = match r.clip(&caster.bounds) {
-                    Some((t0, t1)) => (t0 * c, t1 * c, true),
-                    None => (0.0, 0.0, false),
-                };
-                sc.rays[k] = RayInfo {
-                    origin: r.origin,
-                    dir: r.dir,
-                    dz: [r.dir[0] / c, r.dir[1] / c, r.dir[2] / c],
-                    c,
-                    z0,
-                    z1,
-                    live,
-                };
-                (sc.z0s[k], sc.z1s[k]) = if live {
-                    (z0, z1)
-                } else {
-                    (f64::INFINITY, f64::NEG_INFINITY)
-                };
-                k += 1;
-            }
-        }
+        // Per direction (one for all rays of an orthographic view): the
+        // direction's bits, `c`, `dz` and `1 / dir`.
+        type PerDir = ([u64; 3], f64, [f64; 3], [f64; 3]);
+        let mut last: Option<PerDir> = None;
+        rm.for_each_ray(tile.x0, tile.y0, tile.x1, tile.y1, |r| {
+            let bits = r.dir.map(f64::to_bits);
+            let (c, dz, inv) = match last {
+                Some((b, c, dz, inv)) if b == bits => (c, dz, inv),
+                _ => {
+                    let c = dot(r.dir, cam.forward).max(1e-12);
+                    let dz = [r.dir[0] / c, r.dir[1] / c, r.dir[2] / c];
+                    let inv = r.dir.map(|d| 1.0 / d);
+                    last = Some((bits, c, dz, inv));
+                    (c, dz, inv)
+                }
+            };
+            let (z0, z1, live) = match r.clip_inv(&caster.bounds, inv) {
+                Some((t0, t1)) => (t0 * c, t1 * c, true),
+                None => (0.0, 0.0, false),
+            };
+            sc.rays[k] = RayInfo {
+                origin: r.origin,
+                dir: r.dir,
+                dz,
+                c,
+                z0,
+                z1,
+                live,
+            };
+            (sc.z0s[k], sc.z1s[k]) = if live {
+                (z0, z1)
+            } else {
+                (f64::INFINITY, f64::NEG_INFINITY)
+            };
+            k += 1;
+        });
         sc.tails.clear();
         sc.tails.resize(sc.rays.len(), Tail::default());
         TileCtx {
