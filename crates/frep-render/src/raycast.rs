@@ -663,11 +663,9 @@ impl<'a> TileCtx<'a> {
     }
 
     fn run(&mut self) {
-        let (mut zmin, mut zmax) = (f64::INFINITY, f64::NEG_INFINITY);
-        for r in self.sc.rays.iter().filter(|r| r.live) {
-            zmin = zmin.min(r.z0);
-            zmax = zmax.max(r.z1);
-        }
+        // The depth range of the live rays (a dead ray's is `[+∞, −∞]`).
+        let zmin = self.sc.z0s.iter().fold(f64::INFINITY, |m, &z| m.min(z));
+        let zmax = self.sc.z1s.iter().fold(f64::NEG_INFINITY, |m, &z| m.max(z));
         if zmin > zmax || zmin.is_nan() || zmax.is_nan() {
             return;
         }
@@ -707,14 +705,11 @@ impl<'a> TileCtx<'a> {
                 (None, Some(y)) => y.0,
                 (None, None) => break,
             };
-            while a < deferred.len() && deferred[a].0 == e {
-                self.sc.brackets.push(deferred[a].1);
-                a += 1;
-            }
-            while b < direct.len() && direct[b].0 == e {
-                self.sc.direct.push(direct[b].1);
-                b += 1;
-            }
+            let a1 = a + deferred[a..].iter().take_while(|d| d.0 == e).count();
+            let b1 = b + direct[b..].iter().take_while(|d| d.0 == e).count();
+            self.sc.brackets.extend(deferred[a..a1].iter().map(|d| d.1));
+            self.sc.direct.extend(direct[b..b1].iter().map(|d| d.1));
+            (a, b) = (a1, b1);
             self.record(e as usize);
         }
         deferred.clear();
