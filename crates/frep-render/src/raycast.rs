@@ -62,7 +62,7 @@ use frep_core::simplify::{simplify_with_stats, SimplifyMode};
 use frep_core::{Model, Tape};
 use rayon::prelude::*;
 
-use crate::camera::{dot, Aabb, Camera, RayMaker};
+use crate::camera::{dot, Aabb, Camera, Projection, RayMaker};
 use crate::image::{Hit, HitBuffer, Image, Lighting, Shader};
 use crate::tiles::{cast_tiled, tiles, Tile, TileCaster};
 
@@ -609,22 +609,16 @@ impl<'a> TileCtx<'a> {
         sc.z0s.resize(n, 0.0);
         sc.z1s.resize(n, 0.0);
         let mut k = 0;
-        // Per direction (one for all rays of an orthographic view): the
-        // direction's bits, `c`, `dz` and `1 / dir`.
-        type PerDir = ([u64; 3], f64, [f64; 3], [f64; 3]);
-        let mut last: Option<PerDir> = None;
+        // Per direction: `c`, `dz` and `1 / dir`; once for all rays of an
+        // orthographic view (their direction is the camera's axis).
+        let per_dir = |d: [f64; 3]| {
+            let c = dot(d, cam.forward).max(1e-12);
+            (c, [d[0] / c, d[1] / c, d[2] / c], d.map(|v| 1.0 / v))
+        };
+        let fixed =
+            matches!(cam.projection, Projection::Orthographic { .. }).then(|| per_dir(cam.forward));
         rm.for_each_ray(tile.x0, tile.y0, tile.x1, tile.y1, |r| {
-            let bits = r.dir.map(f64::to_bits);
-            let (c, dz, inv) = match last {
-                Some((b, c, dz, inv)) if b == bits => (c, dz, inv),
-                _ => {
-                    let c = dot(r.dir, cam.forward).max(1e-12);
-                    let dz = [r.dir[0] / c, r.dir[1] / c, r.dir[2] / c];
-                    let inv = r.dir.map(|d| 1.0 / d);
-                    last = Some((bits, c, dz, inv));
-                    (c, dz, inv)
-                }
-            };
+            let (c, dz, inv) = fixed.unwrap_or_else(|| per_dir(r.dir));
             let (z0, z1, live) = match r.clip_inv(&caster.bounds, inv) {
                 Some((t0, t1)) => (t0 * c, t1 * c, true),
                 None => (0.0, 0.0, false),
