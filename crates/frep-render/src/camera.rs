@@ -65,10 +65,17 @@ impl Ray {
     /// The distances along the ray at which it enters and leaves `bounds`, if
     /// it meets the box ahead of its origin (`t0` is clamped to 0).
     pub fn clip(&self, bounds: &Aabb) -> Option<(f64, f64)> {
+        self.clip_inv(bounds, self.dir.map(|d| 1.0 / d))
+    }
+
+    /// [`Ray::clip`] with `inv = 1 / dir` (per component) given, for callers
+    /// clipping many rays of one direction.
+    #[inline]
+    pub fn clip_inv(&self, bounds: &Aabb, inv: [f64; 3]) -> Option<(f64, f64)> {
         let mut t0 = 0.0f64;
         let mut t1 = f64::INFINITY;
         for k in 0..3 {
-            let inv = 1.0 / self.dir[k];
+            let inv = inv[k];
             let mut a = (bounds.min[k] - self.origin[k]) * inv;
             let mut b = (bounds.max[k] - self.origin[k]) * inv;
             if a > b {
@@ -324,6 +331,36 @@ impl RayMaker {
     #[inline]
     pub fn ray(&self, px: u32, py: u32) -> Ray {
         self.ray_at(px as f64 + 0.5, py as f64 + 0.5)
+    }
+
+    /// Calls `f` with the ray through the centre of every pixel of
+    /// `[x0, x1) × [y0, y1)`, row by row: the rays of [`RayMaker::ray`], bit
+    /// for bit, with the terms of each row and column computed once.
+    pub fn for_each_ray(&self, x0: u32, y0: u32, x1: u32, y1: u32, mut f: impl FnMut(Ray)) {
+        let c = &self.cam;
+        let cols: Vec<[f64; 3]> = (x0..x1)
+            .map(|px| {
+                let u = (px as f64 + 0.5 - self.hw) / self.s;
+                scale(c.right, u * self.k)
+            })
+            .collect();
+        for py in y0..y1 {
+            let v = (self.hh - (py as f64 + 0.5)) / self.s;
+            let row = scale(c.up, v * self.k);
+            for &col in &cols {
+                let off = add(col, row);
+                f(match c.projection {
+                    Projection::Perspective { .. } => Ray {
+                        origin: c.eye,
+                        dir: normalize(add(c.forward, off)),
+                    },
+                    Projection::Orthographic { .. } => Ray {
+                        origin: add(c.eye, off),
+                        dir: c.forward,
+                    },
+                });
+            }
+        }
     }
 
     /// [`Camera::pixel_footprint`].

@@ -294,13 +294,21 @@ const SRGB_CELLS: usize = 4096;
 /// gives the count at the start of `c`'s cell of `1/SRGB_CELLS` (exact: the
 /// scaling is by a power of two), and the thresholds inside the cell, at
 /// most a few, are counted one by one.
+#[cfg_attr(not(test), allow(dead_code))]
 fn srgb_byte(c: f32) -> u8 {
-    struct Table {
-        t: [f32; 255],
-        idx: Vec<u8>,
-    }
-    static T: std::sync::OnceLock<Table> = std::sync::OnceLock::new();
-    let tab = T.get_or_init(|| {
+    srgb_table().byte(c)
+}
+
+/// The thresholds and index of [`srgb_byte`].
+#[derive(Debug)]
+struct SrgbTable {
+    t: [f32; 255],
+    idx: Vec<u8>,
+}
+
+fn srgb_table() -> &'static SrgbTable {
+    static T: std::sync::OnceLock<SrgbTable> = std::sync::OnceLock::new();
+    T.get_or_init(|| {
         let byte = |bits: u32| to_byte(linear_to_srgb(f32::from_bits(bits)));
         let t: [f32; 255] = std::array::from_fn(|i| {
             let want = i as u8 + 1;
@@ -322,22 +330,30 @@ fn srgb_byte(c: f32) -> u8 {
                 t.partition_point(|&v| v <= x) as u8
             })
             .collect();
-        Table { t, idx }
-    });
-    if c.is_nan() {
-        return to_byte(linear_to_srgb(c));
+        SrgbTable { t, idx }
+    })
+}
+
+impl SrgbTable {
+    /// [`srgb_byte`].
+    #[inline]
+    fn byte(&self, c: f32) -> u8 {
+        let tab = self;
+        if c.is_nan() {
+            return to_byte(linear_to_srgb(c));
+        }
+        if c < 0.0 {
+            return tab.t.partition_point(|&x| x <= c) as u8;
+        }
+        if c >= 1.0 {
+            return 255;
+        }
+        let mut b = tab.idx[(c * SRGB_CELLS as f32) as usize] as usize;
+        while b < 255 && tab.t[b] <= c {
+            b += 1;
+        }
+        b as u8
     }
-    if c < 0.0 {
-        return tab.t.partition_point(|&x| x <= c) as u8;
-    }
-    if c >= 1.0 {
-        return 255;
-    }
-    let mut b = tab.idx[(c * SRGB_CELLS as f32) as usize] as usize;
-    while b < 255 && tab.t[b] <= c {
-        b += 1;
-    }
-    b as u8
 }
 
 /// Shades a hit buffer: key + fill + rim lights fixed to the camera,
@@ -373,6 +389,12 @@ pub struct Shader {
     fill: [f64; 3],
     rim: [f64; 3],
     base: [f32; 3],
+    /// Orthographic views: the direction back to the eye and the key
+    /// light's half vector, the same for every pixel.
+    ortho: Option<([f64; 3], [f64; 3])>,
+    /// The shininess, when a whole number in `[0, 1024]`.
+    whole_shininess: Option<u32>,
+    srgb: &'static SrgbTable,
 }
 
 impl Shader {
@@ -386,14 +408,37 @@ impl Shader {
                 scale(cam.forward, -d[2]),
             ))
         };
+        let key = to_world(lighting.key.dir);
+        let ortho = match cam.projection {
+            Projection::Perspective { .. } => None,
+            Projection::Orthographic { .. } => {
+                let view = Shader::view_or_back(cam, scale(cam.forward, -1.0));
+                Some((view, normalize(add(key, view))))
+            }
+        };
+        let e = lighting.shininess;
         Shader {
             camera: *camera,
             lighting: lighting.clone(),
             height,
-            key: to_world(lighting.key.dir),
+            key,
             fill: to_world(lighting.fill.dir),
             rim: to_world(lighting.rim.dir),
             base: lighting.base_color.map(srgb_to_linear),
+            ortho,
+            whole_shininess: (e.fract() == 0.0 && (0.0..=1024.0).contains(&e)).then_some(e as u32),
+            srgb: srgb_table(),
+        }
+    }
+
+    /// `view` where it is a usable direction, else straight back along the
+    /// camera's axis.
+    #[inline]
+    fn view_or_back(cam: &Camera, view: [f64; 3]) -> [f64; 3] {
+        if view.iter().all(|v| v.is_finite()) && dot(view, view) > 0.5 {
+            view
+        } else {
+            scale(cam.forward, -1.0)
         }
     }
 
@@ -408,7 +453,7 @@ impl Shader {
         let h = self.height;
         let encode = |c: f32| {
             if lighting.srgb {
-                srgb_byte(c)
+                self.srgb.byte(c)
             } else {
                 to_byte(c.clamp(0.0, 1.0))
             }
@@ -426,14 +471,12 @@ impl Shader {
         let (key, fill, rim) = (self.key, self.fill, self.rim);
         // The direction back along the pixel's ray (`cam.ray(x, y).origin`
         // is the eye, or for orthographic views a point straight back).
-        let view = match cam.projection {
-            Projection::Perspective { .. } => normalize(sub(cam.eye, hit.position)),
-            Projection::Orthographic { .. } => scale(cam.forward, -1.0),
-        };
-        let view = if view.iter().all(|v| v.is_finite()) && dot(view, view) > 0.5 {
-            view
-        } else {
-            scale(cam.forward, -1.0)
+        let (view, half) = match self.ortho {
+            Some(vh) => vh,
+            None => {
+                let view = Shader::view_or_back(cam, normalize(sub(cam.eye, hit.position)));
+                (view, normalize(add(key, view)))
+            }
         };
         let mut n = normalize(hit.normal);
         if !(n.iter().all(|v| v.is_finite()) && dot(n, n) > 0.5) {
@@ -450,15 +493,12 @@ impl Shader {
         let kd = dot(n, key).max(0.0) as f32;
         let fd = dot(n, fill).max(0.0) as f32;
         let rd = dot(n, rim).max(0.0) as f32;
-        let half = normalize(add(key, view));
         let spec = if kd > 0.0 {
             let x = dot(n, half).max(0.0) as f32;
-            let e = lighting.shininess;
             // Whole exponents (the default 40) by multiplication, no powf.
-            let p = if e.fract() == 0.0 && (0.0..=1024.0).contains(&e) {
-                powi(x, e as u32)
-            } else {
-                x.powf(e)
+            let p = match self.whole_shininess {
+                Some(e) => powi(x, e),
+                None => x.powf(lighting.shininess),
             };
             lighting.specular * p
         } else {

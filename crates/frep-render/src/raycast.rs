@@ -62,7 +62,7 @@ use frep_core::simplify::{simplify_with_stats, SimplifyMode};
 use frep_core::{Model, Tape};
 use rayon::prelude::*;
 
-use crate::camera::{dot, Aabb, Camera, RayMaker};
+use crate::camera::{dot, Aabb, Camera, Projection, RayMaker};
 use crate::image::{Hit, HitBuffer, Image, Lighting, Shader};
 use crate::tiles::{cast_tiled, tiles, Tile, TileCaster};
 
@@ -269,9 +269,10 @@ struct Scratch {
     bytes: usize,
     attr: Option<BatchEval>,
     rays: Vec<RayInfo>,
-    /// Per ray, its depth range while it is live and unresolved, else
-    /// `[+∞, −∞]`.
-    zr: Vec<[f64; 2]>,
+    /// Per ray, its depth range `[z0s, z1s]` while it is live and
+    /// unresolved, else `[+∞, −∞]`.
+    z0s: Vec<f64>,
+    z1s: Vec<f64>,
     /// Rays whose hit still needs its normal (see [`TileCtx::flush_normals`]).
     need_normal: Vec<usize>,
     tails: Vec<Tail>,
@@ -311,7 +312,8 @@ impl Scratch {
             bytes: tape.len() * NODE_BYTES,
             attr: None,
             rays: Vec::new(),
-            zr: Vec::new(),
+            z0s: Vec::new(),
+            z1s: Vec::new(),
             need_normal: Vec::new(),
             tails: Vec::new(),
             xs: Vec::new(),
@@ -360,6 +362,12 @@ impl Scratch {
             inputs,
             &mut self.vals[..n],
         );
+    }
+
+    /// Takes ray `i` out of the depth ranges searched.
+    fn resolve(&mut self, i: usize) {
+        self.z0s[i] = f64::INFINITY;
+        self.z1s[i] = f64::NEG_INFINITY;
     }
 
     fn clear_points(&mut self) {
@@ -598,33 +606,39 @@ impl<'a> TileCtx<'a> {
         let rm = cam.rays(tile.width, tile.height);
         let n = (tile.w() * tile.h()) as usize;
         sc.rays.resize(n, RayInfo::default());
-        sc.zr.resize(n, [0.0; 2]);
+        sc.z0s.resize(n, 0.0);
+        sc.z1s.resize(n, 0.0);
         let mut k = 0;
-        for py in tile.y0..tile.y1 {
-            for px in tile.x0..tile.x1 {
-                let r = rm.ray(px, py);
-                let c = dot(r.dir, cam.forward).max(1e-12);
-                let (z0, z1, live) = match r.clip(&caster.bounds) {
-                    Some((t0, t1)) => (t0 * c, t1 * c, true),
-                    None => (0.0, 0.0, false),
-                };
-                sc.rays[k] = RayInfo {
-                    origin: r.origin,
-                    dir: r.dir,
-                    dz: [r.dir[0] / c, r.dir[1] / c, r.dir[2] / c],
-                    c,
-                    z0,
-                    z1,
-                    live,
-                };
-                sc.zr[k] = if live {
-                    [z0, z1]
-                } else {
-                    [f64::INFINITY, f64::NEG_INFINITY]
-                };
-                k += 1;
-            }
-        }
+        // Per direction: `c`, `dz` and `1 / dir`; once for all rays of an
+        // orthographic view (their direction is the camera's axis).
+        let per_dir = |d: [f64; 3]| {
+            let c = dot(d, cam.forward).max(1e-12);
+            (c, [d[0] / c, d[1] / c, d[2] / c], d.map(|v| 1.0 / v))
+        };
+        let fixed =
+            matches!(cam.projection, Projection::Orthographic { .. }).then(|| per_dir(cam.forward));
+        rm.for_each_ray(tile.x0, tile.y0, tile.x1, tile.y1, |r| {
+            let (c, dz, inv) = fixed.unwrap_or_else(|| per_dir(r.dir));
+            let (z0, z1, live) = match r.clip_inv(&caster.bounds, inv) {
+                Some((t0, t1)) => (t0 * c, t1 * c, true),
+                None => (0.0, 0.0, false),
+            };
+            sc.rays[k] = RayInfo {
+                origin: r.origin,
+                dir: r.dir,
+                dz,
+                c,
+                z0,
+                z1,
+                live,
+            };
+            (sc.z0s[k], sc.z1s[k]) = if live {
+                (z0, z1)
+            } else {
+                (f64::INFINITY, f64::NEG_INFINITY)
+            };
+            k += 1;
+        });
         sc.tails.clear();
         sc.tails.resize(sc.rays.len(), Tail::default());
         TileCtx {
@@ -643,11 +657,9 @@ impl<'a> TileCtx<'a> {
     }
 
     fn run(&mut self) {
-        let (mut zmin, mut zmax) = (f64::INFINITY, f64::NEG_INFINITY);
-        for r in self.sc.rays.iter().filter(|r| r.live) {
-            zmin = zmin.min(r.z0);
-            zmax = zmax.max(r.z1);
-        }
+        // The depth range of the live rays (a dead ray's is `[+∞, −∞]`).
+        let zmin = self.sc.z0s.iter().fold(f64::INFINITY, |m, &z| m.min(z));
+        let zmax = self.sc.z1s.iter().fold(f64::NEG_INFINITY, |m, &z| m.max(z));
         if zmin > zmax || zmin.is_nan() || zmax.is_nan() {
             return;
         }
@@ -687,14 +699,11 @@ impl<'a> TileCtx<'a> {
                 (None, Some(y)) => y.0,
                 (None, None) => break,
             };
-            while a < deferred.len() && deferred[a].0 == e {
-                self.sc.brackets.push(deferred[a].1);
-                a += 1;
-            }
-            while b < direct.len() && direct[b].0 == e {
-                self.sc.direct.push(direct[b].1);
-                b += 1;
-            }
+            let a1 = a + deferred[a..].iter().take_while(|d| d.0 == e).count();
+            let b1 = b + direct[b..].iter().take_while(|d| d.0 == e).count();
+            self.sc.brackets.extend(deferred[a..a1].iter().map(|d| d.1));
+            self.sc.direct.extend(direct[b..b1].iter().map(|d| d.1));
+            (a, b) = (a1, b1);
             self.record(e as usize);
         }
         deferred.clear();
@@ -706,15 +715,40 @@ impl<'a> TileCtx<'a> {
     /// The depth range of the unresolved live rays of `rect` within
     /// `[za, zb]`, if any.
     fn active_range(&self, rect: Rect, za: f64, zb: f64) -> Option<(f64, f64)> {
+        // Branch-free (and so vectorised, four rays at a time): a ray
+        // outside `[za, zb]` (resolved and dead ones included: `[+∞, −∞]`)
+        // contributes `+∞` to the minimum and `−∞` to the maximum. Depths
+        // are never NaN.
         let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+        let (mut l, mut h) = ([f64::INFINITY; 4], [f64::NEG_INFINITY; 4]);
         for y in rect.y0..rect.y1 {
             let row = (y * self.tw) as usize;
-            for &[z0, z1] in &self.sc.zr[row + rect.x0 as usize..row + rect.x1 as usize] {
+            let (a, b) = (row + rect.x0 as usize, row + rect.x1 as usize);
+            let (z0s, z1s) = (&self.sc.z0s[a..b], &self.sc.z1s[a..b]);
+            let mut c0 = z0s.chunks_exact(4);
+            let mut c1 = z1s.chunks_exact(4);
+            for (c0, c1) in (&mut c0).zip(&mut c1) {
+                for k in 0..4 {
+                    let (z0, z1) = (c0[k], c1[k]);
+                    let inside = z1 >= za && z0 <= zb;
+                    let a = if z0 > za { z0 } else { za };
+                    let b = if z1 < zb { z1 } else { zb };
+                    let a = if inside { a } else { f64::INFINITY };
+                    let b = if inside { b } else { f64::NEG_INFINITY };
+                    l[k] = if a < l[k] { a } else { l[k] };
+                    h[k] = if b > h[k] { b } else { h[k] };
+                }
+            }
+            for (&z0, &z1) in c0.remainder().iter().zip(c1.remainder()) {
                 if z1 >= za && z0 <= zb {
                     lo = lo.min(z0.max(za));
                     hi = hi.max(z1.min(zb));
                 }
             }
+        }
+        for k in 0..4 {
+            lo = lo.min(l[k]);
+            hi = hi.max(h[k]);
         }
         (lo <= hi).then_some((lo, hi))
     }
@@ -722,7 +756,7 @@ impl<'a> TileCtx<'a> {
     /// Records ray `i`'s hit.
     fn set_hit(&mut self, i: usize, h: Hit) {
         self.out[i] = Some(h);
-        self.sc.zr[i] = [f64::INFINITY, f64::NEG_INFINITY];
+        self.sc.resolve(i);
     }
 
     /// The evaluator of the tape `e` shortened for the box it was last
@@ -912,34 +946,35 @@ impl<'a> TileCtx<'a> {
             return;
         }
         let need = std::mem::take(&mut sc.need_normal);
-        sc.clear_points();
+        sc.set_points(6 * need.len());
+        let mut o = 0;
         for &i in &need {
             let Some(h) = &self.out[i] else { continue };
             let z = h.t * sc.rays[i].c;
             let d = 0.5 * self.rm.pixel_footprint(z).max(1e-9 * (1.0 + z.abs()));
-            let p = h.position;
-            for k in 0..3 {
-                for s in [d, -d] {
-                    let mut q = p;
-                    q[k] += s;
-                    sc.push_point(q);
-                }
-            }
+            // p ± d along each axis in turn.
+            let [x, y, w] = h.position;
+            sc.xs[o..o + 6].copy_from_slice(&[x + d, x - d, x, x, x, x]);
+            sc.ys[o..o + 6].copy_from_slice(&[y, y, y + d, y - d, y, y]);
+            sc.zs[o..o + 6].copy_from_slice(&[w, w, w, w, w + d, w - d]);
+            o += 6;
         }
+        sc.np = o;
         self.stats.point_evals += sc.np as u64;
         sc.eval_points(e, &self.caster.inputs);
         let vals = std::mem::take(&mut self.sc.vals);
         let mut j = 0;
         for &i in &need {
-            let Some(h) = self.out[i] else { continue };
+            let Some(h) = &self.out[i] else { continue };
             let v = &vals[j * 6..j * 6 + 6];
             j += 1;
             let n = [-(v[0] - v[1]), -(v[2] - v[3]), -(v[4] - v[5])];
             let n = match unit(n) {
                 Some(n) => n,
                 None => {
+                    let (p, t) = (h.position, h.t);
                     let r = self.sc.rays[i];
-                    self.normal(e, &r, h.position, h.t * r.c)
+                    self.normal(e, &r, p, t * r.c)
                 }
             };
             if let Some(h) = &mut self.out[i] {
@@ -1134,12 +1169,14 @@ impl<'a> TileCtx<'a> {
         let sc = &mut *self.sc;
         for b in sc.brackets.drain(..) {
             self.out[b.ray] = Some(PENDING);
-            sc.zr[b.ray] = [f64::INFINITY, f64::NEG_INFINITY];
+            sc.z0s[b.ray] = f64::INFINITY;
+            sc.z1s[b.ray] = f64::NEG_INFINITY;
             sc.deferred.push((e as u32, b));
         }
         for d in sc.direct.drain(..) {
             self.out[d.0] = Some(PENDING);
-            sc.zr[d.0] = [f64::INFINITY, f64::NEG_INFINITY];
+            sc.z0s[d.0] = f64::INFINITY;
+            sc.z1s[d.0] = f64::NEG_INFINITY;
             sc.deferred_direct.push((e as u32, d));
         }
     }
@@ -1180,34 +1217,32 @@ impl<'a> TileCtx<'a> {
         let step = self.caster.step_px.max(1e-3) * self.footprint(za).max(1e-300);
         let n = (((zb - za) / step).ceil() as usize).clamp(1, 4096);
         let min_len = self.min_len(step, za);
-        // Pending segments not followed by this slab: search them first
-        // (they are in front).
-        for y in rect.y0..rect.y1 {
-            for x in rect.x0..rect.x1 {
-                let i = (y * self.tw + x) as usize;
-                let r = &self.sc.rays[i];
-                let t = self.sc.tails[i];
-                if !r.live || self.out[i].is_some() || r.z1 < za || r.z0 > zb || !t.pending {
-                    continue;
-                }
-                if t.z_last != za.max(r.z0) {
-                    self.sc.tails[i].pending = false;
-                    self.sc.tail_list.push((i, t));
-                }
-            }
-        }
-        self.search_tails();
+        // The live unresolved rays of the leaf that reach its slab (a
+        // resolved or dead ray's range is `[+∞, −∞]`). Pending segments not
+        // followed by this slab are searched first (they are in front).
         let mut leaf_rays = std::mem::take(&mut self.sc.leaf_rays);
         leaf_rays.clear();
         for y in rect.y0..rect.y1 {
-            for x in rect.x0..rect.x1 {
-                let i = (y * self.tw + x) as usize;
-                let r = &self.sc.rays[i];
-                if !r.live || self.out[i].is_some() || r.z1 < za || r.z0 > zb {
+            let row = (y * self.tw) as usize;
+            for i in row + rect.x0 as usize..row + rect.x1 as usize {
+                let sc = &mut *self.sc;
+                let (z0, z1) = (sc.z0s[i], sc.z1s[i]);
+                if z1 < za || z0 > zb {
                     continue;
                 }
-                leaf_rays.push((i, za.max(r.z0), zb.min(r.z1)));
+                let t = &mut sc.tails[i];
+                if t.pending && t.z_last != za.max(z0) {
+                    t.pending = false;
+                    let t = *t;
+                    sc.tail_list.push((i, t));
+                }
+                leaf_rays.push((i, za.max(z0), zb.min(z1)));
             }
+        }
+        if !self.sc.tail_list.is_empty() {
+            self.search_tails();
+            let sc = &*self.sc;
+            leaf_rays.retain(|&(i, _, _)| sc.z0s[i] <= zb);
         }
         if leaf_rays.is_empty() {
             self.sc.leaf_rays = leaf_rays;
@@ -1216,19 +1251,26 @@ impl<'a> TileCtx<'a> {
         // Sample every ray at n + 1 depths, all rays in one batch.
         let sc = &mut *self.sc;
         sc.fracs.clear();
-        sc.fracs.extend((0..=n).map(|k| k as f64 / n as f64));
+        sc.fracs.extend((0..n + 1).map(|k| k as f64 / n as f64));
         let total = leaf_rays.len() * (n + 1);
         sc.set_points(total);
-        let mut o = 0;
-        for &(i, lo, hi) in &leaf_rays {
-            let r = &sc.rays[i];
-            let d = hi - lo;
-            for &f in &sc.fracs {
-                let z = lo + d * f;
-                sc.xs[o] = r.origin[0] + r.dz[0] * z;
-                sc.ys[o] = r.origin[1] + r.dz[1] * z;
-                sc.zs[o] = r.origin[2] + r.dz[2] * z;
-                o += 1;
+        {
+            let fr = &sc.fracs[..];
+            let xs = sc.xs[..total].chunks_exact_mut(n + 1);
+            let ys = sc.ys[..total].chunks_exact_mut(n + 1);
+            let zs = sc.zs[..total].chunks_exact_mut(n + 1);
+            for (((&(i, lo, hi), xs), ys), zs) in leaf_rays.iter().zip(xs).zip(ys).zip(zs) {
+                let r = &sc.rays[i];
+                let d = hi - lo;
+                let m = fr.len();
+                let (xs, ys, zs) = (&mut xs[..m], &mut ys[..m], &mut zs[..m]);
+                let ([ox, oy, oz], [dx, dy, dz]) = (r.origin, r.dz);
+                for k in 0..m {
+                    let t = lo + d * fr[k];
+                    xs[k] = ox + dx * t;
+                    ys[k] = oy + dy * t;
+                    zs[k] = oz + dz * t;
+                }
             }
         }
         self.stats.point_evals += total as u64;
@@ -1275,14 +1317,15 @@ impl<'a> TileCtx<'a> {
                         f64::NEG_INFINITY
                     };
                     let mut pending = false;
-                    for k in 0..=n {
-                        let left = if k > 0 { ord(v[k - 1]) } else { left0 };
+                    let (mut left, mut c) = (left0, ord(v[0]));
+                    #[allow(clippy::needless_range_loop)]
+                    for k in 0..n + 1 {
                         let right = if k < n {
                             ord(v[k + 1])
                         } else {
                             f64::NEG_INFINITY
                         };
-                        if local_max(left, ord(v[k]), right) {
+                        if local_max(left, c, right) {
                             if k == n && n > 0 && hi < sc.rays[i].z1 {
                                 pending = true;
                             } else {
@@ -1292,6 +1335,7 @@ impl<'a> TileCtx<'a> {
                             }
                             break;
                         }
+                        (left, c) = (c, right);
                     }
                     sc.tails[i] = Tail {
                         valid: true,
@@ -1338,6 +1382,7 @@ impl<'a> TileCtx<'a> {
             tol.push(REFINE_PX * self.footprint(b.lo));
         }
         let mut active: Vec<usize> = Vec::with_capacity(tol.len());
+        let mut trials: Vec<f64> = Vec::with_capacity(tol.len());
         let sc = &mut *self.sc;
         for _ in 0..REFINE {
             active.clear();
@@ -1348,17 +1393,19 @@ impl<'a> TileCtx<'a> {
             if active.is_empty() {
                 break;
             }
-            sc.clear_points();
-            for &j in &active {
+            sc.set_points(active.len());
+            trials.clear();
+            for (o, &j) in active.iter().enumerate() {
                 let b = &sc.brackets[j];
-                let p = sc.rays[b.ray].at_depth(b.trial());
-                sc.push_point(p);
+                let m = b.trial();
+                trials.push(m);
+                let [x, y, z] = sc.rays[b.ray].at_depth(m);
+                (sc.xs[o], sc.ys[o], sc.zs[o]) = (x, y, z);
             }
             self.stats.point_evals += sc.np as u64;
             sc.eval_points(e, &self.caster.inputs);
-            for (&j, &f) in active.iter().zip(&sc.vals) {
+            for ((&j, &f), &m) in active.iter().zip(&sc.vals).zip(&trials) {
                 let b = &mut sc.brackets[j];
-                let m = b.trial();
                 if f >= 0.0 {
                     b.hi = m;
                     b.f_hi = f;
