@@ -94,19 +94,8 @@ fn fidget_mesh(tree: &fidget::context::Tree, jit: bool, depth: u8, bounds: [f64;
         depth,
         ..Default::default()
     };
-    let c = [0, 1, 2].map(|k| 0.5 * (bounds[k] + bounds[k + 3]));
-    let half = 0.5
-        * (0..3)
-            .map(|k| bounds[k + 3] - bounds[k])
-            .fold(0.0f64, f64::max);
-    let identity = c == [0.0; 3] && half == 1.0;
-    let tree = if identity {
-        tree.clone()
-    } else {
-        let (x, y, z) = fidget::context::Tree::axes();
-        let m = |t: fidget::context::Tree, k: usize| t * half as f32 + c[k] as f32;
-        tree.remap_xyz(m(x, 0), m(y, 1), m(z, 2))
-    };
+    let (c, half) = frep_bench::cube_of(bounds);
+    let tree = frep_bench::to_fidget::in_cube(tree, (c, half));
     let tree = &tree;
     let m = if jit {
         let shape = fidget::jit::JitShape::from(tree.clone())

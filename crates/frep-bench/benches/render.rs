@@ -1,21 +1,25 @@
 //! Render times of frep's ray caster (`frep_render::render`) on M1–M4 and
 //! every example, at 512² and 1024², with 2 threads and 1 thread, the peak
 //! heap beyond the image, and — with the `anchors` feature — fidget 0.5's 3D
-//! renderer (VM and JIT, heightmap + normals) on M1–M4 in the same run.
+//! renderer (VM and JIT, heightmap + normals) in the same run: on M1–M4 from the
+//! hand-written anchor trees, on the other examples from `to_fidget`'s
+//! translation of the same tape.
 //!
 //! Views:
-//! - `top`: orthographic, looking down −z over `[-1, 1]³`, the square filling
-//!   the image. This is what fidget's voxel render does natively (depth =
-//!   image width voxels); ours renders the same view through an equivalent
-//!   `Camera`, so the two columns compare like with like.
+//! - `top`: orthographic, looking down −z over `[-1, 1]³` (M1–M4) or over the
+//!   cube of the example's box (longest side, around its centre), the square
+//!   filling the image. This is what fidget's voxel render does natively
+//!   (depth = image width voxels; for an example its tree is mapped from
+//!   `[-1, 1]³` onto the cube); ours renders the same view through an
+//!   equivalent `Camera`, so the two columns compare like with like.
 //! - `turn`: our usual turntable view (perspective, fov 30°, yaw 30°, pitch
 //!   20°, framing the model box); ours only.
 //!
 //! `FREP_BENCH_STATS=1` also prints the caster's work counters per row.
 //!
 //! Each time is the minimum of `FREP_BENCH_REPS` runs (default 3; runs over
-//! 5 s are not repeated). fidget's interpreter on M4 (minutes, per the notes)
-//! is skipped unless `FREP_BENCH_SLOW=1`.
+//! 5 s are not repeated). fidget's interpreter on M4 and on the examples
+//! (R-functions: minutes, per the notes) is skipped unless `FREP_BENCH_SLOW=1`.
 //!
 //! Run: `scripts/bench-render.sh` (or `cargo bench -p frep-bench --features
 //! anchors --bench render`).
@@ -61,30 +65,26 @@ fn pool(threads: usize) -> rayon::ThreadPool {
 }
 
 fn bounds_of(src: &str) -> Aabb {
-    src.lines()
-        .find_map(|l| l.trim().strip_prefix("-- bounds:"))
-        .map(|b| {
-            let v: Vec<f64> = b.split(',').map(|s| s.trim().parse().unwrap()).collect();
-            Aabb::new([v[0], v[1], v[2]], [v[3], v[4], v[5]])
-        })
-        .unwrap_or(Aabb::new([-10.0; 3], [10.0; 3]))
+    let v = frep_bench::bounds_line(src).unwrap_or([-10.0, -10.0, -10.0, 10.0, 10.0, 10.0]);
+    Aabb::new([v[0], v[1], v[2]], [v[3], v[4], v[5]])
 }
 
-/// fidget's native 3D view: orthographic, looking down −z, `[-1, 1]²` filling
-/// the image.
-fn top_camera() -> Camera {
-    Camera::look_at(
-        [0.0, 0.0, 3.0],
-        [0.0, 0.0, 0.0],
+/// fidget's native 3D view of the cube `(centre, half side)`: orthographic,
+/// looking down −z, the cube's square filling the image; and the cube as a box.
+fn top_view((c, h): ([f64; 3], f64)) -> (Camera, Aabb) {
+    let cam = Camera::look_at(
+        [c[0], c[1], c[2] + 3.0 * h],
+        c,
         [0.0, 1.0, 0.0],
-        Projection::Orthographic { half_extent: 1.0 },
-    )
+        Projection::Orthographic { half_extent: h },
+    );
+    (cam, Aabb::new(c.map(|v| v - h), c.map(|v| v + h)))
 }
 
 struct Row {
     name: String,
     size: u32,
-    top: Option<[Duration; 2]>,
+    top: [Duration; 2],
     turn: [Duration; 2],
     peak_mib: f64,
     fidget: [Option<Duration>; 2],
@@ -118,52 +118,73 @@ mod peer {
         img.iter().filter(|p| p.depth > 0).count()
     }
 
-    /// fidget's JIT and VM render times of model `i` (0..4) at `n`², 2 threads.
-    pub fn times(i: usize, n: u32) -> [Option<Duration>; 2] {
-        let tree = || frep_bench::anchors::all().swap_remove(i).tree;
+    /// fidget's tree for an example: the anchor tree for M1–M4 (`anchor` =
+    /// 0..4), else `to_fidget`'s translation mapped onto the top view's cube.
+    /// `None` where the model has an op fidget lacks.
+    pub fn tree(
+        model: &Model,
+        anchor: Option<usize>,
+        cube: ([f64; 3], f64),
+    ) -> Option<fidget::context::Tree> {
+        match anchor {
+            Some(i) => Some(frep_bench::anchors::all().swap_remove(i).tree),
+            None => frep_bench::to_fidget::tape_to_tree(&model.tape())
+                .ok()
+                .map(|t| frep_bench::to_fidget::in_cube(&t, cube)),
+        }
+    }
+
+    /// fidget's JIT and VM render times of `tree` at `n`², 2 threads; the VM
+    /// only with `vm`.
+    pub fn times(tree: &fidget::context::Tree, n: u32, vm: bool) -> [Option<Duration>; 2] {
         let threads = ThreadPool::Custom(pool(2));
         let jit = time_min(|| {
-            std::hint::black_box(run(JitShape::from(tree()), n, &threads));
+            std::hint::black_box(run(JitShape::from(tree.clone()), n, &threads));
         });
-        let slow = std::env::var_os("FREP_BENCH_SLOW").is_some();
-        let vm = (i != 3 || slow).then(|| {
+        let vm = vm.then(|| {
             time_min(|| {
-                std::hint::black_box(run(fidget::vm::VmShape::from(tree()), n, &threads));
+                std::hint::black_box(run(fidget::vm::VmShape::from(tree.clone()), n, &threads));
             })
         });
         [Some(jit), vm]
     }
 
     /// Pixels fidget sees as covered (for a sanity check against ours).
-    pub fn coverage(i: usize, n: u32) -> usize {
-        let tree = frep_bench::anchors::all().swap_remove(i).tree;
-        run(JitShape::from(tree), n, &ThreadPool::Custom(pool(2)))
+    pub fn coverage(tree: &fidget::context::Tree, n: u32) -> usize {
+        run(
+            JitShape::from(tree.clone()),
+            n,
+            &ThreadPool::Custom(pool(2)),
+        )
     }
 }
 
 fn main() {
     // `cargo bench` passes `--bench`; a name filter may follow.
     let filter: Option<String> = std::env::args().skip(1).find(|a| !a.starts_with("--"));
-    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples");
-    let mut files: Vec<String> = std::fs::read_dir(dir)
-        .expect("examples folder")
-        .filter_map(|e| e.ok())
-        .map(|e| e.file_name().to_string_lossy().into_owned())
-        .filter(|n| n.ends_with(".hf"))
-        .collect();
-    files.sort();
     let (p1, p2) = (pool(1), pool(2));
     let mut rows = Vec::new();
-    for file in &files {
-        if filter.as_ref().is_some_and(|f| !file.contains(f.as_str())) {
-            continue;
-        }
-        let src = std::fs::read_to_string(format!("{dir}/{file}")).expect("model source");
+    for (file, src) in frep_bench::example_sources(filter.as_deref().unwrap_or("")) {
         let model = Model::compile(&src).expect("example compiles");
         let bounds = bounds_of(&src);
         let anchor = ["m1_", "m2_", "m3_", "m4_"]
             .iter()
             .position(|p| file.starts_with(p));
+        let cube = frep_bench::top_cube(&file, &src);
+        #[cfg(feature = "anchors")]
+        let peer_tree = peer::tree(&model, anchor, cube);
+        // Sanity check that both sides see the same view: covered pixels at 256².
+        #[cfg(feature = "anchors")]
+        if let Some(t) = &peer_tree {
+            let (cam, top_box) = top_view(cube);
+            let caster = ModelCaster::new(&model, Default::default(), top_box);
+            let ours =
+                p2.install(|| frep_render::cast_tiled(&caster, &cam, 256, 256, 32).hit_count());
+            eprintln!(
+                "{file}: covered pixels at 256² top, ours {ours}, fidget {}",
+                peer::coverage(t, 256)
+            );
+        }
         for size in [512u32, 1024] {
             let turn = RenderSettings {
                 size: (size, size),
@@ -188,14 +209,15 @@ fn main() {
                     t.elapsed(),
                     caster.stats()
                 );
+                let (top_cam, top_box) = top_view(cube);
                 let top = RenderSettings {
                     size: (size, size),
-                    bounds: Aabb::new([-1.0; 3], [1.0; 3]),
+                    bounds: top_box,
                     ..Default::default()
                 };
                 let caster = ModelCaster::new(&model, Default::default(), top.bounds);
                 let t = Instant::now();
-                p2.install(|| render_with(&caster, &top, &top_camera(), None).unwrap());
+                p2.install(|| render_with(&caster, &top, &top_cam, None).unwrap());
                 eprintln!("{file} {size}² top: {:?} {:?}", t.elapsed(), caster.stats());
             }
             // Peak heap of one 2-thread render, beyond the image.
@@ -203,25 +225,24 @@ fn main() {
                 peak_during(|| p2.install(|| render_camera(&model, &turn, &cam, None).unwrap()));
             let peak_mib = (peak as f64 - img.rgba.len() as f64) / (1u64 << 20) as f64;
             drop(img);
-            let (top, fidget) = match anchor {
-                Some(i) => {
-                    let s = RenderSettings {
-                        size: (size, size),
-                        bounds: Aabb::new([-1.0; 3], [1.0; 3]),
-                        ..Default::default()
-                    };
-                    let c = top_camera();
-                    let t = [run(&p2, &s, &c), run(&p1, &s, &c)];
-                    #[cfg(feature = "anchors")]
-                    let f = peer::times(i, size);
-                    #[cfg(not(feature = "anchors"))]
-                    let f = {
-                        let _ = i;
-                        [None, None]
-                    };
-                    (Some(t), f)
-                }
-                None => (None, [None, None]),
+            let (c, top_box) = top_view(cube);
+            let s = RenderSettings {
+                size: (size, size),
+                bounds: top_box,
+                ..Default::default()
+            };
+            let top = [run(&p2, &s, &c), run(&p1, &s, &c)];
+            // fidget's VM takes minutes on R-function models (M4, the examples).
+            let slow = std::env::var_os("FREP_BENCH_SLOW").is_some();
+            let with_vm = slow || matches!(anchor, Some(0..=2));
+            #[cfg(feature = "anchors")]
+            let fidget = peer_tree
+                .as_ref()
+                .map_or([None, None], |t| peer::times(t, size, with_vm));
+            #[cfg(not(feature = "anchors"))]
+            let fidget = {
+                let _ = with_vm;
+                [None, None]
             };
             let row = Row {
                 name: file.trim_end_matches(".hf").to_string(),
@@ -233,16 +254,6 @@ fn main() {
             };
             print_row(&row);
             rows.push(row);
-        }
-    }
-    #[cfg(feature = "anchors")]
-    for i in 0..4 {
-        if filter.is_none() {
-            eprintln!(
-                "fidget covered pixels M{} 256²: {}",
-                i + 1,
-                peer::coverage(i, 256)
-            );
         }
     }
     let _ = rows;
@@ -262,10 +273,9 @@ fn print_row(r: &Row) {
         [Some(a), None] | [None, Some(a)] => Some(a),
         _ => None,
     };
-    let ratio = match (r.top, best) {
-        (Some(t), Some(b)) => format!("{:.3}", t[0].as_secs_f64() / b.as_secs_f64()),
-        _ => "–".into(),
-    };
+    let ratio = best.map_or("–".into(), |b| {
+        format!("{:.3}", r.top[0].as_secs_f64() / b.as_secs_f64())
+    });
     let target = if r.size == 512 {
         if r.turn[0] <= Duration::from_millis(40) {
             "yes"
@@ -279,8 +289,8 @@ fn print_row(r: &Row) {
         "| {} | {}² | {} | {} | {} | {} | {} | {} | {} | {} | {:.2} |",
         r.name,
         r.size,
-        opt(r.top.map(|t| t[0])),
-        opt(r.top.map(|t| t[1])),
+        ms(r.top[0]),
+        ms(r.top[1]),
         opt(r.fidget[0]),
         opt(r.fidget[1]),
         ratio,

@@ -1,11 +1,12 @@
 //! A quick render timer for profiling the ray caster:
-//! `render_time [filter] [size] [view] [threads] [reps]`, view `top` (fidget's
-//! orthographic top-down view over `[-1, 1]³`) or `turn` (the perspective
+//! `render_time [filter] [size] [view] [threads] [reps]`, view `top` (the
+//! render benchmark's orthographic top-down view, over `[-1, 1]³` for M1–M4 and
+//! the cube of the model's box otherwise) or `turn` (the perspective
 //! turntable of the model's own box). Prints the minimum time per example,
 //! and the caster's counters with `FREP_BENCH_STATS=1`.
 
 use frep_bench::alloc::{peak_during, Counting};
-use frep_bench::{bounds_line, example_sources, Args};
+use frep_bench::{bounds_line, example_sources, top_cube, Args};
 use std::time::{Duration, Instant};
 
 use frep_core::Model;
@@ -31,13 +32,14 @@ fn main() {
     for (file, src) in example_sources(&filter) {
         let model = Model::compile(&src).expect("compiles");
         let (bounds, cam) = if view == "top" {
+            let (c, h) = top_cube(&file, &src);
             let cam = Camera::look_at(
-                [0.0, 0.0, 3.0],
-                [0.0, 0.0, 0.0],
+                [c[0], c[1], c[2] + 3.0 * h],
+                c,
                 [0.0, 1.0, 0.0],
-                Projection::Orthographic { half_extent: 1.0 },
+                Projection::Orthographic { half_extent: h },
             );
-            (Aabb::new([-1.0; 3], [1.0; 3]), cam)
+            (Aabb::new(c.map(|v| v - h), c.map(|v| v + h)), cam)
         } else {
             let b = bounds_of(&src);
             let s = RenderSettings {

@@ -89,6 +89,30 @@ pub fn bounds_line(src: &str) -> Option<[f64; 6]> {
     v.try_into().ok()
 }
 
+/// The cube of `bounds`' longest side around its centre (`[x0, y0, z0, x1, y1, z1]`), as
+/// `(centre, half side)`: the box both sides of a benchmark work in.
+pub fn cube_of(bounds: [f64; 6]) -> ([f64; 3], f64) {
+    let c = [0, 1, 2].map(|k| 0.5 * (bounds[k] + bounds[k + 3]));
+    let half = 0.5
+        * (0..3)
+            .map(|k| bounds[k + 3] - bounds[k])
+            .fold(0.0f64, f64::max);
+    (c, half)
+}
+
+/// The cube the render benchmark's `top` view covers for the example `file` (source `src`):
+/// `[-1, 1]³` for M1–M4 (fidget's anchors, file names `m1_` … `m4_`), else the cube of the
+/// example's `-- bounds:` box ([`cube_of`]), as `(centre, half side)`.
+pub fn top_cube(file: &str, src: &str) -> ([f64; 3], f64) {
+    let anchor = ["m1_", "m2_", "m3_", "m4_"]
+        .iter()
+        .any(|p| file.starts_with(p));
+    match bounds_line(src) {
+        Some(b) if !anchor => cube_of(b),
+        _ => ([0.0; 3], 1.0),
+    }
+}
+
 /// Positional command-line arguments of the timing examples, with defaults.
 pub struct Args(Vec<String>);
 

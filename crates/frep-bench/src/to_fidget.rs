@@ -57,6 +57,18 @@ impl std::error::Error for TranslateError {}
 const POS: u8 = 1;
 const NEG: u8 = 2;
 
+/// `tree` seen through the map from fidget's `[-1, 1]³` onto the cube `(centre, half)`: x ↦
+/// centre + half·x on each axis (so fidget's native box covers that cube). The same tree
+/// when the cube is `[-1, 1]³`.
+pub fn in_cube(tree: &Tree, (c, half): ([f64; 3], f64)) -> Tree {
+    if c == [0.0; 3] && half == 1.0 {
+        return tree.clone();
+    }
+    let (x, y, z) = Tree::axes();
+    let m = |t: Tree, k: usize| t * half as f32 + c[k] as f32;
+    tree.remap_xyz(m(x, 0), m(y, 1), m(z, 2))
+}
+
 /// Translates output 0 of `tape` (positive inside) into a fidget tree of its
 /// negation (negative inside). See the module docs.
 pub fn tape_to_tree(tape: &Tape) -> Result<Tree, TranslateError> {
