@@ -3,7 +3,8 @@
 //!
 //! Run: `scripts/bench-mesh.sh` (= `cargo bench -p frep-bench --features anchors --bench
 //! mesh`). `FREP_BENCH_REPS` (default 3) sets the repetitions; the minimum time is kept.
-//! `FREP_BENCH_DEPTHS` (default `6,7,8`) the depths, `FREP_BENCH_MODELS` a name filter.
+//! `FREP_BENCH_DEPTHS` (default `6,7,8`) the depths, `FREP_BENCH_MODELS` a name filter (a part
+//! of the row's name, or `=name` for exactly that name: `=sphere` is the plain sphere alone).
 //! fidget meshes M1–M4 from the hand-written anchor trees (JIT, but the VM for M3, whose
 //! trigonometry the JIT calls lane by lane; see shared/notes/rendering-and-meshing.md) and the
 //! examples from `to_fidget`'s translation of the same tape (JIT), on the same box (the cube
@@ -177,7 +178,11 @@ fn main() {
             Some(_) => format!("{} {}", stem[..2].to_uppercase(), &stem[3..]),
             None => stem,
         };
-        if only.as_ref().is_some_and(|o| !name.contains(o.as_str())) {
+        let wanted = |o: &String| match o.strip_prefix('=') {
+            Some(exact) => name == exact,
+            None => name.contains(o.as_str()),
+        };
+        if only.as_ref().is_some_and(|o| !wanted(o)) {
             continue;
         }
         cases.push(Case {
