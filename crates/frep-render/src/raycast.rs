@@ -301,6 +301,32 @@ struct Scratch {
     deferred: Vec<(u32, Bracket)>,
     /// Direct hits not recorded yet, with their evaluator.
     deferred_direct: Vec<(u32, (usize, f64, bool))>,
+    /// Buffers lent in place of `brackets`, `direct`, `searches` and
+    /// `need_normal` while [`TileCtx::search_tails`] sets those aside, kept
+    /// (empty) for their capacity: no allocation per search.
+    spare_brackets: Vec<Bracket>,
+    spare_direct: Vec<(usize, f64, bool)>,
+    spare_searches: Vec<(usize, f64, f64, f64, f64)>,
+    spare_need: Vec<usize>,
+    /// Pending tails a leaf searches before its own samples (see
+    /// [`TileCtx::leaf`]); empty between uses.
+    resolve_first: Vec<(usize, Tail)>,
+    /// [`TileCtx::refine`]'s brackets still too wide, and their trial depths.
+    refine_active: Vec<usize>,
+    refine_trials: Vec<f64>,
+}
+
+/// Sets `slot`'s buffer aside and lends it `spare`'s (empty) meanwhile.
+fn set_aside<T>(slot: &mut Vec<T>, spare: &mut Vec<T>) -> Vec<T> {
+    std::mem::replace(slot, std::mem::take(spare))
+}
+
+/// Puts `kept` back in `slot`; the lent buffer, emptied, becomes the spare
+/// again (its capacity kept).
+fn put_back<T>(slot: &mut Vec<T>, kept: Vec<T>, spare: &mut Vec<T>) {
+    let mut lent = std::mem::replace(slot, kept);
+    lent.clear();
+    *spare = lent;
 }
 
 impl Scratch {
@@ -330,6 +356,13 @@ impl Scratch {
             fracs: Vec::new(),
             deferred: Vec::new(),
             deferred_direct: Vec::new(),
+            spare_brackets: Vec::new(),
+            spare_direct: Vec::new(),
+            spare_searches: Vec::new(),
+            spare_need: Vec::new(),
+            resolve_first: Vec::new(),
+            refine_active: Vec::new(),
+            refine_trials: Vec::new(),
         }
     }
 
@@ -1127,12 +1160,13 @@ impl<'a> TileCtx<'a> {
             return;
         }
         list.sort_by_key(|(_, t)| t.ev);
-        let brackets = std::mem::take(&mut self.sc.brackets);
-        let direct = std::mem::take(&mut self.sc.direct);
-        let searches = std::mem::take(&mut self.sc.searches);
+        let sc = &mut *self.sc;
+        let brackets = set_aside(&mut sc.brackets, &mut sc.spare_brackets);
+        let direct = set_aside(&mut sc.direct, &mut sc.spare_direct);
+        let searches = set_aside(&mut sc.searches, &mut sc.spare_searches);
         // Hits of another box waiting for normals (from `fill`): not with
         // these tapes.
-        let need = std::mem::take(&mut self.sc.need_normal);
+        let need = set_aside(&mut sc.need_normal, &mut sc.spare_need);
         let mut k = 0;
         while k < list.len() {
             let e = list[k].1.ev;
@@ -1147,12 +1181,13 @@ impl<'a> TileCtx<'a> {
             self.run_searches(e as usize);
             self.finish(e as usize);
         }
-        self.sc.brackets = brackets;
-        self.sc.direct = direct;
-        self.sc.searches = searches;
-        self.sc.need_normal = need;
+        let sc = &mut *self.sc;
+        put_back(&mut sc.brackets, brackets, &mut sc.spare_brackets);
+        put_back(&mut sc.direct, direct, &mut sc.spare_direct);
+        put_back(&mut sc.searches, searches, &mut sc.spare_searches);
+        put_back(&mut sc.need_normal, need, &mut sc.spare_need);
         list.clear();
-        self.sc.tail_list = list;
+        sc.tail_list = list;
     }
 
     /// Resolves the rays of the buffered brackets and direct hits
@@ -1276,7 +1311,7 @@ impl<'a> TileCtx<'a> {
         self.stats.point_evals += total as u64;
         sc.eval_points(e, &self.caster.inputs);
         let vals = std::mem::take(&mut sc.vals);
-        let mut resolve_first: Vec<(usize, Tail)> = Vec::new();
+        let mut resolve_first = std::mem::take(&mut self.sc.resolve_first);
         for (j, &(i, lo, hi)) in leaf_rays.iter().enumerate() {
             let v = &vals[j * (n + 1)..(j + 1) * (n + 1)];
             let sc = &mut *self.sc;
@@ -1355,8 +1390,10 @@ impl<'a> TileCtx<'a> {
         self.sc.vals = vals;
         // Pending segments of the previous slabs come first: a hit there
         // replaces anything this slab found behind it.
-        if !resolve_first.is_empty() {
-            self.sc.tail_list.append(&mut resolve_first);
+        let resolve = !resolve_first.is_empty();
+        self.sc.tail_list.append(&mut resolve_first);
+        self.sc.resolve_first = resolve_first;
+        if resolve {
             self.search_tails();
             let sc = &mut *self.sc;
             let out = &*self.out;
@@ -1381,8 +1418,8 @@ impl<'a> TileCtx<'a> {
         for b in &self.sc.brackets {
             tol.push(REFINE_PX * self.footprint(b.lo));
         }
-        let mut active: Vec<usize> = Vec::with_capacity(tol.len());
-        let mut trials: Vec<f64> = Vec::with_capacity(tol.len());
+        let mut active = std::mem::take(&mut self.sc.refine_active);
+        let mut trials = std::mem::take(&mut self.sc.refine_trials);
         let sc = &mut *self.sc;
         for _ in 0..REFINE {
             active.clear();
@@ -1424,6 +1461,8 @@ impl<'a> TileCtx<'a> {
             }
         }
         self.sc.fracs = tol;
+        self.sc.refine_active = active;
+        self.sc.refine_trials = trials;
     }
 
     /// Attribute colours (`s[1..3]` as sRGB in `[0, 1]`) at the given hits.
