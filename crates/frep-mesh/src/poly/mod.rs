@@ -51,6 +51,7 @@ pub mod error;
 mod qef;
 pub mod table;
 
+use std::cell::Cell;
 use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hasher};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -250,6 +251,30 @@ const DC_SLACK: f64 = 1.0;
 const SNAP_STEPS: usize = 3;
 /// Crossing normals are central differences over this fraction of a cell either side.
 const NORMAL_STEP: f64 = 1e-3;
+
+/// The point and bracket buffers of [`Ctx::crossings`], kept per thread between bricks.
+#[derive(Default)]
+struct CrossingBufs {
+    xs: Vec<f64>,
+    ys: Vec<f64>,
+    zs: Vec<f64>,
+    f: Vec<f64>,
+    ts: Vec<f64>,
+    last: Vec<f64>,
+    active: Vec<usize>,
+    /// Per edge: (t inside, f there, t outside, f there, side of the last move).
+    st: Vec<(f64, f64, f64, f64, i8)>,
+}
+
+thread_local! {
+    static CROSSING_BUFS: Cell<CrossingBufs> = Cell::new(CrossingBufs::default());
+}
+
+/// `v` as `n` zeros, reusing its capacity.
+fn zeroed(v: &mut Vec<f64>, n: usize) {
+    v.clear();
+    v.resize(n, 0.0);
+}
 
 /// The sampling lattice.
 #[derive(Clone, Debug)]
@@ -749,16 +774,29 @@ impl Ctx<'_> {
         };
         let n = todo.len();
         let mut be = BatchEval::new(&brick.tape);
-        let (mut xs, mut ys, mut zs) = (vec![0.0; 2 * n], vec![0.0; 2 * n], vec![0.0; 2 * n]);
+        // This thread's buffers: no allocation per brick (the allocator's locks are shared).
+        let mut bufs = CROSSING_BUFS.with(Cell::take);
+        let CrossingBufs {
+            xs,
+            ys,
+            zs,
+            f,
+            ts,
+            last,
+            active,
+            st,
+        } = &mut bufs;
+        for v in [&mut *xs, &mut *ys, &mut *zs, &mut *f] {
+            zeroed(v, 2 * n);
+        }
         for (j, (_, a, b)) in todo.iter().enumerate() {
             (xs[j], ys[j], zs[j]) = (a[0], a[1], a[2]);
             (xs[n + j], ys[n + j], zs[n + j]) = (b[0], b[1], b[2]);
         }
-        let mut f = vec![0.0; 2 * n];
-        be.eval(&xs, &ys, &zs, self.inputs, &mut f);
+        be.eval(xs, ys, zs, self.inputs, f);
         // Brackets: t0 inside (f0 ≥ 0), t1 outside; side of the last move for Illinois.
-        let mut st: Vec<(f64, f64, f64, f64, i8)> =
-            (0..n).map(|j| (0.0, f[j], 1.0, f[n + j], 0)).collect();
+        st.clear();
+        st.extend((0..n).map(|j| (0.0, f[j], 1.0, f[n + j], 0)));
         let next_t = |s: &(f64, f64, f64, f64, i8)| {
             let (t0, f0, t1, f1, _) = *s;
             if f0.is_finite() && f1.is_finite() && f0 >= 0.0 && f1 < 0.0 {
@@ -773,11 +811,13 @@ impl Ctx<'_> {
         ys.truncate(n);
         zs.truncate(n);
         f.truncate(n);
-        let mut ts = vec![0.0; n];
+        zeroed(ts, n);
         // Edges still searched: an edge whose estimate moved by less than `ROOT_TOL` of the
         // edge (or that hit `f = 0`) is done and leaves the batch.
-        let mut active: Vec<usize> = (0..n).collect();
-        let mut last = vec![f64::NAN; n];
+        active.clear();
+        active.extend(0..n);
+        last.clear();
+        last.resize(n, f64::NAN);
         for _ in 0..ROOT_STEPS {
             let m = active.len();
             if m == 0 {
@@ -817,7 +857,9 @@ impl Ctx<'_> {
         // in one batch (six points each); where they vanish or are not finite (a flat or
         // singular field there), forward-mode differentiation.
         let hs = g.h.map(|c| c * NORMAL_STEP);
-        let (mut xs, mut ys, mut zs) = (vec![0.0; 6 * n], vec![0.0; 6 * n], vec![0.0; 6 * n]);
+        for v in [&mut *xs, &mut *ys, &mut *zs, &mut *f] {
+            zeroed(v, 6 * n);
+        }
         for (j, (i, _, _)) in todo.iter().enumerate() {
             let p = pos[*i];
             for o in 0..6 {
@@ -827,8 +869,7 @@ impl Ctx<'_> {
                 (xs[k], ys[k], zs[k]) = (q[0], q[1], q[2]);
             }
         }
-        let mut f = vec![0.0; 6 * n];
-        be.eval(&xs, &ys, &zs, self.inputs, &mut f);
+        be.eval(xs, ys, zs, self.inputs, f);
         let mut ge: Option<GradEval> = None;
         for (j, (i, _, _)) in todo.iter().enumerate() {
             let v = &f[6 * j..6 * j + 6];
@@ -846,6 +887,7 @@ impl Ctx<'_> {
             }
             nrm[*i] = nv;
         }
+        CROSSING_BUFS.with(|c| c.set(bufs));
         (pos, nrm)
     }
 
