@@ -270,6 +270,23 @@ thread_local! {
     static CROSSING_BUFS: Cell<CrossingBufs> = Cell::new(CrossingBufs::default());
 }
 
+/// The per-brick buffers of [`Ctx::extract`], kept per thread between bricks.
+#[derive(Default)]
+struct ExtractBufs {
+    /// Signs of the samples `o − 1 ..= o + b` around the brick.
+    sign: Vec<bool>,
+    /// Edge key → index in `edges`.
+    edge_index: KeyMap<u32>,
+    edges: Vec<EdgeRec>,
+    edge_keys: Vec<u64>,
+    /// Cubes with surface: (min corner, case, local edge indices).
+    cubes: Vec<([i32; 3], usize, [u32; 12])>,
+}
+
+thread_local! {
+    static EXTRACT_BUFS: Cell<ExtractBufs> = Cell::new(ExtractBufs::default());
+}
+
 /// `v` as `n` zeros, reusing its capacity.
 fn zeroed(v: &mut Vec<f64>, n: usize) {
     v.clear();
@@ -1131,6 +1148,21 @@ impl Ctx<'_> {
         id: usize,
         eval: Option<usize>,
     ) -> Result<BrickOut, MeshError> {
+        // This thread's buffers: no allocation per brick for them.
+        let mut bufs = EXTRACT_BUFS.with(Cell::take);
+        let out = self.extract_with(lat, id, eval, &mut bufs);
+        EXTRACT_BUFS.with(|c| c.set(bufs));
+        out
+    }
+
+    /// [`Ctx::extract`] with the buffers given.
+    fn extract_with(
+        &self,
+        lat: &Lattice,
+        id: usize,
+        eval: Option<usize>,
+        bufs: &mut ExtractBufs,
+    ) -> Result<BrickOut, MeshError> {
         self.check()?;
         let g = &self.grid;
         let b = g.brick;
@@ -1139,7 +1171,15 @@ impl Ctx<'_> {
         let brick = eval.map(|k| &lat.bricks[k]);
         // Signs of samples o-1 ..= o+b.
         let e = (b + 2) as usize;
-        let mut sign = vec![false; e * e * e];
+        let ExtractBufs {
+            sign,
+            edge_index,
+            edges,
+            edge_keys,
+            cubes,
+        } = bufs;
+        sign.clear();
+        sign.resize(e * e * e, false);
         for k in -1..=b {
             for j in -1..=b {
                 for i in -1..=b {
@@ -1149,11 +1189,10 @@ impl Ctx<'_> {
             }
         }
         let table = cases();
-        let mut edge_index: KeyMap<u32> = KeyMap::default();
-        let mut edges: Vec<EdgeRec> = Vec::new();
-        let mut edge_keys: Vec<u64> = Vec::new();
-        // Cubes with surface: (min corner, case, local edge indices).
-        let mut cubes: Vec<([i32; 3], usize, [u32; 12])> = Vec::new();
+        edge_index.clear();
+        edges.clear();
+        edge_keys.clear();
+        cubes.clear();
         let upper = [0, 1, 2].map(|a| (b - 1).min(g.n[a] - 1 - o[a]));
         for k in -1..=upper[2] {
             for j in -1..=upper[1] {
@@ -1199,14 +1238,14 @@ impl Ctx<'_> {
                 }
             }
         }
-        let (pos, nrm) = self.crossings(lat, brick, &edges);
+        let (pos, nrm) = self.crossings(lat, brick, edges);
         let mut out = BrickOut::default();
         if self.method != Method::DualContouring {
             out.colors = self.colors_at(brick, &pos);
             out.keys = edge_keys.clone();
             out.positions = pos.iter().map(|p| p.map(|c| c as f32)).collect();
             out.normals = nrm.iter().map(|p| p.map(|c| c as f32)).collect();
-            for (q, mask, local) in &cubes {
+            for (q, mask, local) in cubes.iter() {
                 let case = &table[*mask];
                 for k in 0..case.polygons() {
                     let poly = case.polygon(k);
@@ -1274,10 +1313,10 @@ impl Ctx<'_> {
         let mut ns = Vec::new();
         let mut dc_pos = Vec::new();
         let merged = match (self.adaptive, ge.as_mut()) {
-            (Some(t), Some(ge)) => self.collapse(ge, o, &sign, &cubes, &pos, &nrm, t),
+            (Some(t), Some(ge)) => self.collapse(ge, o, sign, cubes, &pos, &nrm, t),
             _ => KeyMap::default(),
         };
-        for (q, mask, local) in &cubes {
+        for (q, mask, local) in cubes.iter() {
             let case = &dual[*mask];
             let key = point_key(*q) << 3;
             if let Some(&(rep, x, n)) = merged.get(&key) {
