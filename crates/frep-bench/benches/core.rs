@@ -62,14 +62,7 @@ fn read_sources(dir: &Path) -> Vec<Source> {
         .filter_map(|p| {
             let src = std::fs::read_to_string(&p).ok()?;
             let name = p.file_stem()?.to_string_lossy().into_owned();
-            let bounds = src.lines().find_map(|l| {
-                let v: Vec<f64> = l
-                    .strip_prefix("-- bounds:")?
-                    .split(',')
-                    .map(|t| t.trim().parse().ok())
-                    .collect::<Option<_>>()?;
-                <[f64; 6]>::try_from(v).ok()
-            });
+            let bounds = frep_bench::bounds_line(&src);
             Some(Source { name, src, bounds })
         })
         .collect()

@@ -76,19 +76,6 @@ struct Case {
     fidget: Option<(fidget::context::Tree, bool)>,
 }
 
-fn bounds_line(src: &str) -> [f64; 6] {
-    src.lines()
-        .find_map(|l| l.strip_prefix("-- bounds:"))
-        .map(|b| {
-            let v: Vec<f64> = b
-                .split(',')
-                .map(|t| t.trim().parse().expect("number"))
-                .collect();
-            [v[0], v[1], v[2], v[3], v[4], v[5]]
-        })
-        .unwrap_or([-1.0, -1.0, -1.0, 1.0, 1.0, 1.0])
-}
-
 /// fidget's mesh of `tree` in the cube of `bounds`' longest side around its centre.
 fn fidget_mesh(tree: &fidget::context::Tree, jit: bool, depth: u8, bounds: [f64; 6]) -> Mesh {
     let settings = fidget::mesh::Settings {
@@ -148,26 +135,12 @@ fn main() {
         .filter_map(|d| d.trim().parse().ok())
         .collect();
     let only: Option<String> = std::env::var("FREP_BENCH_MODELS").ok();
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples");
-    let mut names: Vec<_> = std::fs::read_dir(&root)
-        .expect("examples")
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|e| e == "hf"))
-        .collect();
-    names.sort();
     let anchors = frep_bench::anchors::all();
     let mut cases = Vec::new();
-    for p in names {
-        let src = std::fs::read_to_string(&p).expect("read");
-        let stem = p
-            .file_stem()
-            .and_then(|s| s.to_str())
-            .unwrap_or("?")
-            .to_string();
+    for (file, src) in frep_bench::example_sources("") {
+        let stem = file.trim_end_matches(".hf").to_string();
         let model = Model::compile(&src).expect("compiles");
-        let anchor = ["m1", "m2", "m3", "m4"]
-            .iter()
-            .position(|m| stem.starts_with(m));
+        let anchor = frep_bench::anchor_of(&file);
         let fidget = match anchor {
             Some(i) => Some((anchors[i].tree.clone(), i != 2)),
             None => frep_bench::to_fidget::tape_to_tree(&model.tape())
@@ -188,7 +161,7 @@ fn main() {
         cases.push(Case {
             name,
             model,
-            bounds: bounds_line(&src),
+            bounds: frep_bench::bounds_line(&src).unwrap_or([-1.0, -1.0, -1.0, 1.0, 1.0, 1.0]),
             fidget,
         });
     }

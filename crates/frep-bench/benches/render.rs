@@ -28,8 +28,7 @@ use frep_bench::alloc::{peak_during, Counting};
 use std::time::{Duration, Instant};
 
 use frep_core::Model;
-use frep_render::camera::Projection;
-use frep_render::{render_camera, render_with, Aabb, Camera, ModelCaster, RenderSettings};
+use frep_render::{render_camera, render_with, Camera, ModelCaster, RenderSettings};
 
 #[global_allocator]
 static ALLOC: Counting = Counting;
@@ -57,29 +56,7 @@ fn time_min<F: FnMut()>(mut f: F) -> Duration {
     best
 }
 
-fn pool(threads: usize) -> rayon::ThreadPool {
-    rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .expect("thread pool")
-}
-
-fn bounds_of(src: &str) -> Aabb {
-    let v = frep_bench::bounds_line(src).unwrap_or([-10.0, -10.0, -10.0, 10.0, 10.0, 10.0]);
-    Aabb::new([v[0], v[1], v[2]], [v[3], v[4], v[5]])
-}
-
-/// fidget's native 3D view of the cube `(centre, half side)`: orthographic,
-/// looking down −z, the cube's square filling the image; and the cube as a box.
-fn top_view((c, h): ([f64; 3], f64)) -> (Camera, Aabb) {
-    let cam = Camera::look_at(
-        [c[0], c[1], c[2] + 3.0 * h],
-        c,
-        [0.0, 1.0, 0.0],
-        Projection::Orthographic { half_extent: h },
-    );
-    (cam, Aabb::new(c.map(|v| v - h), c.map(|v| v + h)))
-}
+use frep_bench::Args;
 
 struct Row {
     name: String,
@@ -137,7 +114,7 @@ mod peer {
     /// fidget's JIT and VM render times of `tree` at `n`², 2 threads; the VM
     /// only with `vm`.
     pub fn times(tree: &fidget::context::Tree, n: u32, vm: bool) -> [Option<Duration>; 2] {
-        let threads = ThreadPool::Custom(pool(2));
+        let threads = ThreadPool::Custom(Args::pool(2));
         let jit = time_min(|| {
             std::hint::black_box(run(JitShape::from(tree.clone()), n, &threads));
         });
@@ -154,7 +131,7 @@ mod peer {
         run(
             JitShape::from(tree.clone()),
             n,
-            &ThreadPool::Custom(pool(2)),
+            &ThreadPool::Custom(Args::pool(2)),
         )
     }
 }
@@ -162,21 +139,19 @@ mod peer {
 fn main() {
     // `cargo bench` passes `--bench`; a name filter may follow.
     let filter: Option<String> = std::env::args().skip(1).find(|a| !a.starts_with("--"));
-    let (p1, p2) = (pool(1), pool(2));
+    let (p1, p2) = (Args::pool(1), Args::pool(2));
     let mut rows = Vec::new();
     for (file, src) in frep_bench::example_sources(filter.as_deref().unwrap_or("")) {
         let model = Model::compile(&src).expect("example compiles");
-        let bounds = bounds_of(&src);
-        let anchor = ["m1_", "m2_", "m3_", "m4_"]
-            .iter()
-            .position(|p| file.starts_with(p));
+        let bounds = frep_bench::example_box(&src);
+        let anchor = frep_bench::anchor_of(&file);
         let cube = frep_bench::top_cube(&file, &src);
         #[cfg(feature = "anchors")]
         let peer_tree = peer::tree(&model, anchor, cube);
         // Sanity check that both sides see the same view: covered pixels at 256².
         #[cfg(feature = "anchors")]
         if let Some(t) = &peer_tree {
-            let (cam, top_box) = top_view(cube);
+            let (cam, top_box) = frep_bench::top_view(cube);
             let caster = ModelCaster::new(&model, Default::default(), top_box);
             let ours =
                 p2.install(|| frep_render::cast_tiled(&caster, &cam, 256, 256, 32).hit_count());
@@ -209,7 +184,7 @@ fn main() {
                     t.elapsed(),
                     caster.stats()
                 );
-                let (top_cam, top_box) = top_view(cube);
+                let (top_cam, top_box) = frep_bench::top_view(cube);
                 let top = RenderSettings {
                     size: (size, size),
                     bounds: top_box,
@@ -225,7 +200,7 @@ fn main() {
                 peak_during(|| p2.install(|| render_camera(&model, &turn, &cam, None).unwrap()));
             let peak_mib = (peak as f64 - img.rgba.len() as f64) / (1u64 << 20) as f64;
             drop(img);
-            let (c, top_box) = top_view(cube);
+            let (c, top_box) = frep_bench::top_view(cube);
             let s = RenderSettings {
                 size: (size, size),
                 bounds: top_box,

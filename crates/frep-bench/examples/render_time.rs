@@ -6,20 +6,14 @@
 //! and the caster's counters with `FREP_BENCH_STATS=1`.
 
 use frep_bench::alloc::{peak_during, Counting};
-use frep_bench::{bounds_line, example_sources, top_cube, Args};
+use frep_bench::{example_box, example_sources, top_cube, top_view, Args};
 use std::time::{Duration, Instant};
 
 use frep_core::Model;
-use frep_render::camera::Projection;
-use frep_render::{render_with, Aabb, Camera, ModelCaster, RenderSettings};
+use frep_render::{render_with, ModelCaster, RenderSettings};
 
 #[global_allocator]
 static ALLOC: Counting = Counting;
-
-fn bounds_of(src: &str) -> Aabb {
-    let v = bounds_line(src).unwrap_or([-10.0, -10.0, -10.0, 10.0, 10.0, 10.0]);
-    Aabb::new([v[0], v[1], v[2]], [v[3], v[4], v[5]])
-}
 
 fn main() {
     let args = Args::from_env();
@@ -32,16 +26,10 @@ fn main() {
     for (file, src) in example_sources(&filter) {
         let model = Model::compile(&src).expect("compiles");
         let (bounds, cam) = if view == "top" {
-            let (c, h) = top_cube(&file, &src);
-            let cam = Camera::look_at(
-                [c[0], c[1], c[2] + 3.0 * h],
-                c,
-                [0.0, 1.0, 0.0],
-                Projection::Orthographic { half_extent: h },
-            );
-            (Aabb::new(c.map(|v| v - h), c.map(|v| v + h)), cam)
+            let (cam, b) = top_view(top_cube(&file, &src));
+            (b, cam)
         } else {
-            let b = bounds_of(&src);
+            let b = example_box(&src);
             let s = RenderSettings {
                 bounds: b,
                 ..Default::default()

@@ -11,6 +11,9 @@
 #![warn(missing_docs)]
 
 pub mod alloc;
+
+use frep_render::camera::Projection;
+use frep_render::{Aabb, Camera};
 #[cfg(feature = "anchors")]
 pub mod anchors;
 #[cfg(feature = "anchors")]
@@ -80,13 +83,29 @@ pub fn example_sources(filter: &str) -> Vec<(String, String)> {
         .collect()
 }
 
-/// The box of an example's `-- bounds: x0,y0,z0,x1,y1,z1` line, if it has one.
+/// The box of an example's `-- bounds: x0,y0,z0,x1,y1,z1` line, if it has a well-formed one.
 pub fn bounds_line(src: &str) -> Option<[f64; 6]> {
     let b = src
         .lines()
         .find_map(|l| l.trim().strip_prefix("-- bounds:"))?;
-    let v: Vec<f64> = b.split(',').filter_map(|s| s.trim().parse().ok()).collect();
+    let v: Vec<f64> = b
+        .split(',')
+        .map(|s| s.trim().parse().ok())
+        .collect::<Option<_>>()?;
     v.try_into().ok()
+}
+
+/// The box of an example's `-- bounds:` line, else hfp's default `[-10, 10]³`.
+pub fn example_box(src: &str) -> Aabb {
+    let v = bounds_line(src).unwrap_or([-10.0, -10.0, -10.0, 10.0, 10.0, 10.0]);
+    Aabb::new([v[0], v[1], v[2]], [v[3], v[4], v[5]])
+}
+
+/// Which of the anchor models M1–M4 (0..4) the example file `file` is (names `m1_` … `m4_`).
+pub fn anchor_of(file: &str) -> Option<usize> {
+    ["m1_", "m2_", "m3_", "m4_"]
+        .iter()
+        .position(|p| file.starts_with(p))
 }
 
 /// The cube of `bounds`' longest side around its centre (`[x0, y0, z0, x1, y1, z1]`), as
@@ -104,13 +123,22 @@ pub fn cube_of(bounds: [f64; 6]) -> ([f64; 3], f64) {
 /// `[-1, 1]³` for M1–M4 (fidget's anchors, file names `m1_` … `m4_`), else the cube of the
 /// example's `-- bounds:` box ([`cube_of`]), as `(centre, half side)`.
 pub fn top_cube(file: &str, src: &str) -> ([f64; 3], f64) {
-    let anchor = ["m1_", "m2_", "m3_", "m4_"]
-        .iter()
-        .any(|p| file.starts_with(p));
     match bounds_line(src) {
-        Some(b) if !anchor => cube_of(b),
+        Some(b) if anchor_of(file).is_none() => cube_of(b),
         _ => ([0.0; 3], 1.0),
     }
+}
+
+/// fidget's native 3D view of the cube `(centre, half side)`: orthographic, looking down −z,
+/// the cube's square filling the image; and the cube as a box.
+pub fn top_view((c, h): ([f64; 3], f64)) -> (Camera, Aabb) {
+    let cam = Camera::look_at(
+        [c[0], c[1], c[2] + 3.0 * h],
+        c,
+        [0.0, 1.0, 0.0],
+        Projection::Orthographic { half_extent: h },
+    );
+    (cam, Aabb::new(c.map(|v| v - h), c.map(|v| v + h)))
 }
 
 /// Positional command-line arguments of the timing examples, with defaults.
