@@ -52,8 +52,9 @@ mod qef;
 pub mod table;
 
 use std::cell::Cell;
+use std::collections::hash_map::Entry;
 use std::collections::HashMap;
-use std::hash::{BuildHasherDefault, Hasher};
+use std::hash::{BuildHasherDefault, Hash, Hasher};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::Arc;
 
@@ -236,7 +237,7 @@ impl CancelToken {
 }
 
 /// Side of the finest bricks evaluated in one batch (in cells), at most.
-const BRICK: i32 = 8;
+const BRICK: i32 = 16;
 /// Largest number of bricks per axis (the brick map is dense).
 const MAX_BRICKS: i32 = 128;
 /// Vertices stay this fraction of an edge away from its ends (no coincident vertices).
@@ -244,7 +245,7 @@ const EDGE_MARGIN: f64 = 0.01;
 /// Regula falsi steps on each crossing edge, at most.
 const ROOT_STEPS: usize = 12;
 /// A crossing is found when its estimate moves by less than this fraction of the edge.
-const ROOT_TOL: f64 = 1e-6;
+const ROOT_TOL: f64 = 1e-4;
 /// How far (in cells) a dual-contouring vertex may leave its cube (its QEF's box).
 const DC_SLACK: f64 = 1.0;
 /// Newton steps that move a dual-contouring vertex onto the surface.
@@ -275,8 +276,11 @@ thread_local! {
 struct ExtractBufs {
     /// Signs of the samples `o − 1 ..= o + b` around the brick.
     sign: Vec<bool>,
-    /// Edge key → index in `edges`.
-    edge_index: KeyMap<u32>,
+    /// Per row of `sign` along x: 0 all outside, 1 all inside, 2 mixed.
+    rows: Vec<u8>,
+    /// Per edge of the brick's samples (`3 × (b + 2)³`, by lower end and axis): its index in
+    /// `edges`, `u32::MAX` before it is met (and again after the brick).
+    edge_index: Vec<u32>,
     edges: Vec<EdgeRec>,
     edge_keys: Vec<u64>,
     /// Cubes with surface: (min corner, case, local edge indices).
@@ -285,6 +289,53 @@ struct ExtractBufs {
 
 thread_local! {
     static EXTRACT_BUFS: Cell<ExtractBufs> = Cell::new(ExtractBufs::default());
+}
+
+/// Batch evaluators compiled on this thread, by tape: bricks mostly share a few shortened
+/// tapes, and compiling one (a copy of the tape, its register program and registers) per
+/// brick cost more than evaluating it.
+#[derive(Default)]
+struct BatchCache {
+    /// (hash of the tape, its evaluator), most recently used last.
+    evals: Vec<(u64, BatchEval)>,
+}
+
+/// At most this many evaluators are kept per thread.
+const BATCH_CACHE: usize = 16;
+
+thread_local! {
+    static BATCH_EVALS: Cell<BatchCache> = Cell::new(BatchCache::default());
+}
+
+fn tape_hash(t: &Tape) -> u64 {
+    let mut h = KeyHasher::default();
+    t.nodes.hash(&mut h);
+    for o in &t.outputs {
+        h.write_u64(o.index() as u64);
+    }
+    h.finish()
+}
+
+/// Runs `f` with this thread's batch evaluator of `tape` (compiled on first use).
+fn with_batch<R>(tape: &Tape, f: impl FnOnce(&mut BatchEval) -> R) -> R {
+    let mut cache = BATCH_EVALS.with(Cell::take);
+    let h = tape_hash(tape);
+    let evals = &mut cache.evals;
+    match evals.iter().rposition(|(k, e)| *k == h && e.tape() == tape) {
+        Some(i) => {
+            let last = evals.len() - 1;
+            evals.swap(i, last);
+        }
+        None => {
+            if evals.len() >= BATCH_CACHE {
+                evals.remove(0);
+            }
+            evals.push((h, BatchEval::new(tape)));
+        }
+    }
+    let r = f(&mut evals.last_mut().expect("pushed above").1);
+    BATCH_EVALS.with(|c| c.set(cache));
+    r
 }
 
 /// `v` as `n` zeros, reusing its capacity.
@@ -473,6 +524,161 @@ fn par_map<T: Sync, R: Send>(v: &[T], f: impl Fn(&T) -> R + Sync + Send) -> Vec<
     v.iter().map(f).collect()
 }
 
+#[cfg(feature = "parallel")]
+fn par_each<T: Send>(v: &mut [T], f: impl Fn(&mut T) + Sync + Send) {
+    use rayon::prelude::*;
+    v.par_iter_mut().for_each(f)
+}
+
+#[cfg(not(feature = "parallel"))]
+fn par_each<T: Send>(v: &mut [T], f: impl Fn(&mut T) + Sync + Send) {
+    v.iter_mut().for_each(f)
+}
+
+/// Splits `v` into consecutive chunks of these lengths.
+fn split_lens<T>(mut v: &mut [T], lens: impl Iterator<Item = usize>) -> Vec<&mut [T]> {
+    let mut out = Vec::new();
+    for n in lens {
+        let (a, b) = std::mem::take(&mut v).split_at_mut(n);
+        out.push(a);
+        v = b;
+    }
+    out
+}
+
+/// The merge of marching-cubes bricks (`tris` and `shared`): each brick's vertices in
+/// order, a vertex on a shared edge only from the first brick that has it, then the
+/// brick's triangles, renumbered. Only the shared vertices go through one hash map, in
+/// brick order; numbering and copying run in parallel.
+fn merge_marching(outs: &mut [BrickOut], mesh: &mut Mesh, with_colors: bool) {
+    // Shared vertices met before: (this brick's vertex, earlier brick, its vertex), in the
+    // order of this brick's vertices; `ends[b]` ends brick b's.
+    let nshared: usize = outs.iter().map(|o| o.shared.len()).sum();
+    let mut first: KeyMap<(u32, u32)> =
+        KeyMap::with_capacity_and_hasher(nshared, Default::default());
+    let mut dups: Vec<(u32, u32, u32)> = Vec::new();
+    let mut ends = Vec::with_capacity(outs.len());
+    for (b, o) in outs.iter().enumerate() {
+        for &(v, key) in &o.shared {
+            match first.entry(key) {
+                Entry::Vacant(e) => {
+                    e.insert((b as u32, v));
+                }
+                Entry::Occupied(e) => {
+                    let (b0, v0) = *e.get();
+                    dups.push((v, b0, v0));
+                }
+            }
+        }
+        ends.push(dups.len());
+    }
+    drop(first);
+    let dup_range = |b: usize| if b == 0 { 0 } else { ends[b - 1] }..ends[b];
+    // Each brick's kept vertices are numbered in order from its offset.
+    let kept: Vec<usize> = (0..outs.len())
+        .map(|b| outs[b].positions.len() - dup_range(b).len())
+        .collect();
+    let mut offsets = Vec::with_capacity(outs.len());
+    let mut total = 0usize;
+    for &k in &kept {
+        offsets.push(total);
+        total += k;
+    }
+    struct Job<'a> {
+        out: &'a BrickOut,
+        dups: &'a [(u32, u32, u32)],
+        offset: u32,
+        remap: Vec<u32>,
+    }
+    let mut jobs: Vec<Job> = outs
+        .iter()
+        .enumerate()
+        .map(|(b, o)| Job {
+            out: o,
+            dups: &dups[dup_range(b)],
+            offset: offsets[b] as u32,
+            remap: Vec::new(),
+        })
+        .collect();
+    par_each(&mut jobs, |j| {
+        let n = j.out.positions.len();
+        j.remap.reserve_exact(n);
+        let (mut next, mut d) = (j.offset, 0);
+        for v in 0..n as u32 {
+            if j.dups.get(d).is_some_and(|x| x.0 == v) {
+                j.remap.push(u32::MAX);
+                d += 1;
+            } else {
+                j.remap.push(next);
+                next += 1;
+            }
+        }
+    });
+    // The earlier bricks' numbers of the duplicates.
+    let fixes: Vec<Vec<u32>> = par_map(&jobs, |j| {
+        j.dups
+            .iter()
+            .map(|&(_, b0, v0)| jobs[b0 as usize].remap[v0 as usize])
+            .collect()
+    });
+    for (j, f) in jobs.iter_mut().zip(fixes) {
+        for (&(v, _, _), g) in j.dups.iter().zip(f) {
+            j.remap[v as usize] = g;
+        }
+    }
+    let base_v = mesh.positions.len();
+    let base_t = mesh.triangles.len();
+    let ntri: usize = outs.iter().map(|o| o.tris.len()).sum();
+    mesh.positions.resize(base_v + total, [0.0; 3]);
+    mesh.normals.resize(base_v + total, [0.0; 3]);
+    if with_colors {
+        mesh.colors.resize(base_v + total, [0.0; 3]);
+    }
+    mesh.triangles.resize(base_t + ntri, [0; 3]);
+    let pos = split_lens(&mut mesh.positions[base_v..], kept.iter().copied());
+    let nrm = split_lens(&mut mesh.normals[base_v..], kept.iter().copied());
+    let mut col = if with_colors {
+        split_lens(&mut mesh.colors[base_v..], kept.iter().copied())
+    } else {
+        Vec::new()
+    };
+    col.resize_with(outs.len(), Default::default);
+    let tri = split_lens(
+        &mut mesh.triangles[base_t..],
+        outs.iter().map(|o| o.tris.len()),
+    );
+    let mut work: Vec<_> = jobs
+        .iter()
+        .zip(pos)
+        .zip(nrm)
+        .zip(col)
+        .zip(tri)
+        .map(|((((j, p), n), c), t)| (j, p, n, c, t))
+        .collect();
+    par_each(&mut work, |(j, p, n, c, t)| {
+        let o = j.out;
+        let mut k = 0;
+        for (v, &g) in j.remap.iter().enumerate() {
+            if g == j.offset + k as u32 {
+                p[k] = o.positions[v];
+                n[k] = o.normals[v];
+                if !c.is_empty() {
+                    c[k] = o.colors.get(v).copied().unwrap_or([0.0; 3]);
+                }
+                k += 1;
+            }
+        }
+        for (dst, src) in t.iter_mut().zip(&o.tris) {
+            *dst = src.map(|i| j.remap[i as usize]);
+        }
+    });
+    drop(work);
+    drop(jobs);
+    for o in outs.iter_mut() {
+        *o = BrickOut::default();
+    }
+}
+
 /// A fast hasher for integer keys.
 #[derive(Default, Clone, Copy)]
 struct KeyHasher(u64);
@@ -578,32 +784,37 @@ impl Ctx<'_> {
     }
 
     fn eval_brick(&self, tape: Arc<Tape>, o: [i32; 3]) -> Brick {
-        let b = self.grid.brick;
+        let g = &self.grid;
+        let b = g.brick;
         let m = (b * b * b) as usize;
-        let (mut xs, mut ys, mut zs) = (
-            Vec::with_capacity(m),
-            Vec::with_capacity(m),
-            Vec::with_capacity(m),
-        );
-        for k in 0..b {
-            for j in 0..b {
-                for i in 0..b {
-                    let p = self.grid.point([o[0] + i, o[1] + j, o[2] + k]);
-                    xs.push(p[0]);
-                    ys.push(p[1]);
-                    zs.push(p[2]);
+        // The crossing search's buffers of this thread (not in use while descending).
+        let mut bufs = CROSSING_BUFS.with(Cell::take);
+        let CrossingBufs { xs, ys, zs, f, .. } = &mut bufs;
+        let axis = |a: usize| (0..b).map(move |i| g.coord(a, o[a] + i));
+        for v in [&mut *xs, &mut *ys, &mut *zs] {
+            v.clear();
+        }
+        for z in axis(2) {
+            for y in axis(1) {
+                for x in axis(0) {
+                    xs.push(x);
+                    ys.push(y);
+                    zs.push(z);
                 }
             }
         }
-        let mut out = vec![0.0; m];
-        BatchEval::new(&tape).eval(&xs, &ys, &zs, self.inputs, &mut out);
+        zeroed(f, m);
+        with_batch(&tape, |be| be.eval(xs, ys, zs, self.inputs, f));
+        let out = &f[..];
         let mut bits = vec![0u64; m.div_ceil(64)];
+        // Samples past the grid's last (the virtual layer) stay outside.
+        let clipped = (0..3).any(|a| o[a] + b > g.n[a]);
         let mut l = 0;
         for k in 0..b {
             for j in 0..b {
                 for i in 0..b {
-                    let p = [o[0] + i, o[1] + j, o[2] + k];
-                    if out[l] >= 0.0 && !self.grid.is_virtual(p) {
+                    let real = !clipped || !g.is_virtual([o[0] + i, o[1] + j, o[2] + k]);
+                    if out[l] >= 0.0 && real {
                         bits[l / 64] |= 1 << (l % 64);
                     }
                     l += 1;
@@ -623,6 +834,7 @@ impl Ctx<'_> {
                 })
                 .collect()
         });
+        CROSSING_BUFS.with(|c| c.set(bufs));
         self.progress.add(1);
         Brick {
             origin: o,
@@ -715,10 +927,17 @@ impl Lattice<'_> {
 /// What one brick contributes.
 #[derive(Default)]
 struct BrickOut {
+    /// Dual contouring: the vertices' keys (one per position).
     keys: Vec<u64>,
     positions: Vec<[f32; 3]>,
     normals: Vec<[f32; 3]>,
     colors: Vec<[f32; 3]>,
+    /// Marching cubes: triangles of this brick's vertex indices.
+    tris: Vec<[u32; 3]>,
+    /// Marching cubes: `(vertex index, key)` of the vertices on edges that cubes of other
+    /// bricks may share, by increasing index (the others are this brick's alone).
+    shared: Vec<(u32, u64)>,
+    /// Dual contouring: triangles of vertex keys.
     triangles: Vec<[u64; 3]>,
     /// Dual contouring: quads of vertex keys, counter-clockwise from outside.
     quads: Vec<[u64; 4]>,
@@ -789,8 +1008,22 @@ impl Ctx<'_> {
         let Some(brick) = brick.filter(|_| !todo.is_empty()) else {
             return (pos, nrm);
         };
+        with_batch(&brick.tape, |be| {
+            self.crossings_with(brick, be, todo, pos, nrm)
+        })
+    }
+
+    /// [`Ctx::crossings`] of the edges `todo` to refine, with the brick's evaluator.
+    fn crossings_with(
+        &self,
+        brick: &Brick,
+        be: &mut BatchEval,
+        todo: Vec<(usize, [f64; 3], [f64; 3])>,
+        mut pos: Vec<[f64; 3]>,
+        mut nrm: Vec<[f64; 3]>,
+    ) -> (Vec<[f64; 3]>, Vec<[f64; 3]>) {
+        let g = &self.grid;
         let n = todo.len();
-        let mut be = BatchEval::new(&brick.tape);
         // This thread's buffers: no allocation per brick (the allocator's locks are shared).
         let mut bufs = CROSSING_BUFS.with(Cell::take);
         let CrossingBufs {
@@ -1120,12 +1353,13 @@ impl Ctx<'_> {
         let Some(brick) = brick.filter(|_| self.colors > 0 && !pts.is_empty()) else {
             return Vec::new();
         };
-        let mut be = BatchEval::new(&brick.tape);
         let xs: Vec<f64> = pts.iter().map(|p| p[0]).collect();
         let ys: Vec<f64> = pts.iter().map(|p| p[1]).collect();
         let zs: Vec<f64> = pts.iter().map(|p| p[2]).collect();
         let mut outs = vec![Vec::new(); brick.tape.outputs.len()];
-        be.eval_outputs(&xs, &ys, &zs, self.inputs, &mut outs);
+        with_batch(&brick.tape, |be| {
+            be.eval_outputs(&xs, &ys, &zs, self.inputs, &mut outs)
+        });
         (0..pts.len())
             .map(|i| {
                 [0, 1, 2].map(|c| {
@@ -1173,6 +1407,7 @@ impl Ctx<'_> {
         let e = (b + 2) as usize;
         let ExtractBufs {
             sign,
+            rows,
             edge_index,
             edges,
             edge_keys,
@@ -1180,33 +1415,98 @@ impl Ctx<'_> {
         } = bufs;
         sign.clear();
         sign.resize(e * e * e, false);
-        for k in -1..=b {
-            for j in -1..=b {
-                for i in -1..=b {
-                    let l = (i + 1) as usize + e * ((j + 1) as usize + e * (k + 1) as usize);
-                    sign[l] = lat.inside([o[0] + i, o[1] + j, o[2] + k]);
+        // By the 27 bricks around (this one included): the layer below (−1), the brick's
+        // own samples (0), the layer above (+1) along each axis.
+        let span = |d: i32| match d {
+            -1 => -1..=-1,
+            0 => 0..=b - 1,
+            _ => b..=b,
+        };
+        let bc = o.map(|c| c / b);
+        for dz in -1..=1 {
+            for dy in -1..=1 {
+                for dx in -1..=1 {
+                    let nc = [bc[0] + dx, bc[1] + dy, bc[2] + dz];
+                    if nc.iter().any(|&c| c < 0 || c >= g.nb) {
+                        continue;
+                    }
+                    let nid = nc[0] as usize + nb * (nc[1] as usize + nb * nc[2] as usize);
+                    let bits = match lat.map[nid] {
+                        OUTSIDE => continue,
+                        INSIDE => None,
+                        k => Some(&lat.bricks[(k - 2) as usize].bits),
+                    };
+                    let d = [dx, dy, dz].map(|c| c * b);
+                    for k in span(dz) {
+                        for j in span(dy) {
+                            for i in span(dx) {
+                                let l = (i + 1) as usize
+                                    + e * ((j + 1) as usize + e * (k + 1) as usize);
+                                sign[l] = match bits {
+                                    // Virtual samples are outside (not set in the bits).
+                                    None => !g.is_virtual([o[0] + i, o[1] + j, o[2] + k]),
+                                    Some(bits) => {
+                                        let m =
+                                            (i - d[0] + b * (j - d[1] + b * (k - d[2]))) as usize;
+                                        bits[m / 64] >> (m % 64) & 1 == 1
+                                    }
+                                };
+                            }
+                        }
+                    }
                 }
             }
         }
+        debug_assert!((0..e * e * e).all(|l| {
+            let c = [l % e, l / e % e, l / (e * e)].map(|c| c as i32 - 1);
+            sign[l] == lat.inside([o[0] + c[0], o[1] + c[1], o[2] + c[2]])
+        }));
         let table = cases();
-        edge_index.clear();
+        let edge_slot = |p: [i32; 3], axis: usize| {
+            let l = [0, 1, 2].map(|a| (p[a] - o[a] + 1) as usize);
+            axis + 3 * (l[0] + e * (l[1] + e * l[2]))
+        };
+        // Every entry is `u32::MAX` between bricks (reset below).
+        if edge_index.len() < 3 * e * e * e {
+            edge_index.resize(3 * e * e * e, u32::MAX);
+        }
         edges.clear();
         edge_keys.clear();
         cubes.clear();
         let upper = [0, 1, 2].map(|a| (b - 1).min(g.n[a] - 1 - o[a]));
+        // Per row of samples along x: 0 all outside, 1 all inside, 2 mixed.
+        rows.clear();
+        rows.extend(sign.chunks_exact(e).map(|r| {
+            if r.iter().all(|&v| v) {
+                1u8
+            } else if r.iter().all(|&v| !v) {
+                0
+            } else {
+                2
+            }
+        }));
         for k in -1..=upper[2] {
             for j in -1..=upper[1] {
+                // The four rows of this row of cubes; all alike and not mixed: no surface.
+                let r = [(j, k), (j + 1, k), (j, k + 1), (j + 1, k + 1)]
+                    .map(|(y, z)| (y + 1) as usize * e + (z + 1) as usize * e * e);
+                let st = r.map(|l| rows[l / e]);
+                if st[0] != 2 && st.iter().all(|&v| v == st[0]) {
+                    continue;
+                }
+                // Corner bits of the cubes' x = i face: bits 0, 2, 4, 6 of the case.
+                let face = |x: usize| {
+                    sign[r[0] + x] as usize
+                        | (sign[r[1] + x] as usize) << 2
+                        | (sign[r[2] + x] as usize) << 4
+                        | (sign[r[3] + x] as usize) << 6
+                };
+                let mut left = face(0);
                 for i in -1..=upper[0] {
                     let q = [o[0] + i, o[1] + j, o[2] + k];
-                    if q.iter().any(|&c| c < -1) {
-                        continue;
-                    }
-                    let mut mask = 0usize;
-                    for (c, off) in OFFS.iter().enumerate() {
-                        let l = (i + 1 + off[0]) as usize
-                            + e * ((j + 1 + off[1]) as usize + e * (k + 1 + off[2]) as usize);
-                        mask |= (sign[l] as usize) << c;
-                    }
+                    let right = face((i + 2) as usize);
+                    let mask = left | right << 1;
+                    left = right;
                     if mask == 0 || mask == 255 {
                         continue;
                     }
@@ -1223,38 +1523,53 @@ impl Ctx<'_> {
                         let (c0, c1) = edge_corners(ei as u8);
                         let p = add(q, OFFS[c0]);
                         let axis = (c0 ^ c1).trailing_zeros() as usize;
-                        let key = point_key(p) << 2 | axis as u64;
-                        local[ei] = *edge_index.entry(key).or_insert_with(|| {
+                        let slot = &mut edge_index[edge_slot(p, axis)];
+                        if *slot == u32::MAX {
+                            *slot = edges.len() as u32;
                             edges.push(EdgeRec {
                                 p,
                                 axis,
                                 inside_low: mask >> c0 & 1 == 1,
                             });
-                            edge_keys.push(key);
-                            (edges.len() - 1) as u32
-                        });
+                            edge_keys.push(point_key(p) << 2 | axis as u64);
+                        }
+                        local[ei] = *slot;
                     }
                     cubes.push((q, mask, local));
                 }
             }
         }
+        for r in edges.iter() {
+            edge_index[edge_slot(r.p, r.axis)] = u32::MAX;
+        }
         let (pos, nrm) = self.crossings(lat, brick, edges);
         let mut out = BrickOut::default();
         if self.method != Method::DualContouring {
             out.colors = self.colors_at(brick, &pos);
-            out.keys = edge_keys.clone();
             out.positions = pos.iter().map(|p| p.map(|c| c as f32)).collect();
             out.normals = nrm.iter().map(|p| p.map(|c| c as f32)).collect();
-            for (q, mask, local) in cubes.iter() {
+            // An edge is this brick's alone when its four cubes are inner cubes of the
+            // brick (every corner sample in it: only this brick makes them). Along the
+            // edge its lower end is such a cube's lower corner, across it the lower end
+            // is a cube's lower or upper corner.
+            for (v, e) in edges.iter().enumerate() {
+                let inner = (0..3).all(|a| {
+                    let c = e.p[a] - o[a];
+                    c >= i32::from(a != e.axis) && c <= b - 2
+                });
+                if !inner {
+                    out.shared.push((v as u32, edge_keys[v]));
+                }
+            }
+            for (_, mask, local) in cubes.iter() {
                 let case = &table[*mask];
                 for k in 0..case.polygons() {
                     let poly = case.polygon(k);
-                    let key = |e: u8| edge_keys[local[e as usize] as usize];
+                    let key = |e: u8| local[e as usize];
                     let p = |e: u8| pos[local[e as usize] as usize];
                     let n = poly.len();
                     if n == 3 {
-                        out.triangles
-                            .push([key(poly[0]), key(poly[1]), key(poly[2])]);
+                        out.tris.push([key(poly[0]), key(poly[1]), key(poly[2])]);
                         continue;
                     }
                     // A fan whose diagonals avoid the cube's faces: a diagonal on a face
@@ -1271,7 +1586,7 @@ impl Ctx<'_> {
                     }
                     if let Some(&a) = apexes.first() {
                         for j in 1..n - 1 {
-                            out.triangles.push([
+                            out.tris.push([
                                 key(poly[a]),
                                 key(poly[(a + j) % n]),
                                 key(poly[(a + j + 1) % n]),
@@ -1289,8 +1604,7 @@ impl Ctx<'_> {
                             nc[d] += nrm[v][d];
                         }
                     }
-                    let ck = 1 << 63 | point_key(*q) << 2 | k as u64;
-                    out.keys.push(ck);
+                    let ck = out.positions.len() as u32;
                     out.positions.push(c.map(|x| x as f32));
                     out.normals.push(norm(nc).map(|x| x as f32));
                     if !out.colors.is_empty() {
@@ -1298,8 +1612,7 @@ impl Ctx<'_> {
                         out.colors.push(col);
                     }
                     for j in 0..n {
-                        out.triangles
-                            .push([ck, key(poly[j]), key(poly[(j + 1) % n])]);
+                        out.tris.push([ck, key(poly[j]), key(poly[(j + 1) % n])]);
                     }
                 }
             }
@@ -1550,21 +1863,36 @@ fn run(
     ctx.check()?;
 
     // Phase 3: merge.
+    let ntri: usize = outs
+        .iter()
+        .map(|o| o.tris.len() + o.triangles.len() + 2 * o.quads.len())
+        .sum();
+    if ntri > settings.limits.max_triangles {
+        return Err(MeshError::TooManyTriangles(settings.limits.max_triangles));
+    }
+    let mut mesh = Mesh::default();
+    mesh.triangles.reserve(ntri);
+    let with_colors = colors > 0;
+    let push_vertex = |mesh: &mut Mesh, o: &BrickOut, v: usize| {
+        mesh.positions.push(o.positions[v]);
+        mesh.normals.push(o.normals[v]);
+        if with_colors {
+            mesh.colors
+                .push(o.colors.get(v).copied().unwrap_or([0.0; 3]));
+        }
+        (mesh.positions.len() - 1) as u32
+    };
+    if settings.method != Method::DualContouring {
+        merge_marching(&mut outs, &mut mesh, with_colors);
+    }
+    // Dual contouring: vertices by key.
     let nv: usize = outs.iter().map(|o| o.keys.len()).sum();
     let mut index: KeyMap<u32> = KeyMap::with_capacity_and_hasher(nv, Default::default());
-    let mut mesh = Mesh::default();
-    let with_colors = colors > 0;
     for o in &mut outs {
         for (v, &key) in o.keys.iter().enumerate() {
-            index.entry(key).or_insert_with(|| {
-                mesh.positions.push(o.positions[v]);
-                mesh.normals.push(o.normals[v]);
-                if with_colors {
-                    mesh.colors
-                        .push(o.colors.get(v).copied().unwrap_or([0.0; 3]));
-                }
-                (mesh.positions.len() - 1) as u32
-            });
+            if let Entry::Vacant(e) = index.entry(key) {
+                e.insert(push_vertex(&mut mesh, o, v));
+            }
         }
         o.keys = Vec::new();
         o.positions = Vec::new();
@@ -1578,14 +1906,6 @@ fn run(
             }
         }
     }
-    let ntri: usize = outs
-        .iter()
-        .map(|o| o.triangles.len() + 2 * o.quads.len())
-        .sum();
-    if ntri > settings.limits.max_triangles {
-        return Err(MeshError::TooManyTriangles(settings.limits.max_triangles));
-    }
-    mesh.triangles.reserve(ntri);
     let look = |k: &u64| index.get(k).copied();
     for o in &outs {
         for t in &o.triangles {
