@@ -979,7 +979,7 @@ impl Ctx<'_> {
         let mut pos = vec![[0.0; 3]; edges.len()];
         let mut nrm = vec![[0.0; 3]; edges.len()];
         // Real edges to refine: (edge index, inside point, outside point).
-        let mut todo: Vec<(usize, [f64; 3], [f64; 3])> = Vec::new();
+        let mut todo: Vec<(usize, [f64; 3], [f64; 3])> = Vec::with_capacity(edges.len());
         for (i, e) in edges.iter().enumerate() {
             let mut hi = e.p;
             hi[e.axis] += 1;
@@ -1548,6 +1548,9 @@ impl Ctx<'_> {
             out.colors = self.colors_at(brick, &pos);
             out.positions = pos.iter().map(|p| p.map(|c| c as f32)).collect();
             out.normals = nrm.iter().map(|p| p.map(|c| c as f32)).collect();
+            // Most cases are one or two triangles (no regrowth in the common case).
+            out.tris.reserve(2 * cubes.len());
+            out.shared.reserve(edges.len());
             // An edge is this brick's alone when its four cubes are inner cubes of the
             // brick (every corner sample in it: only this brick makes them). Along the
             // edge its lower end is such a cube's lower corner, across it the lower end
