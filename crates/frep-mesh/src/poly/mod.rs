@@ -790,17 +790,21 @@ impl Ctx<'_> {
         // The crossing search's buffers of this thread (not in use while descending).
         let mut bufs = CROSSING_BUFS.with(Cell::take);
         let CrossingBufs { xs, ys, zs, f, .. } = &mut bufs;
-        let axis = |a: usize| (0..b).map(move |i| g.coord(a, o[a] + i));
         for v in [&mut *xs, &mut *ys, &mut *zs] {
             v.clear();
         }
-        for z in axis(2) {
-            for y in axis(1) {
-                for x in axis(0) {
-                    xs.push(x);
-                    ys.push(y);
-                    zs.push(z);
-                }
+        // The brick's coordinates along x, then the rows and layers from them.
+        xs.extend((0..b).map(|i| g.coord(0, o[0] + i)));
+        let bu = b as usize;
+        for _ in 1..bu * bu {
+            xs.extend_from_within(..bu);
+        }
+        for k in 0..b {
+            let z = g.coord(2, o[2] + k);
+            for j in 0..b {
+                let y = g.coord(1, o[1] + j);
+                ys.extend(std::iter::repeat_n(y, bu));
+                zs.extend(std::iter::repeat_n(z, bu));
             }
         }
         zeroed(f, m);
