@@ -395,7 +395,8 @@ impl Graph {
 
 /// A compacted, topologically ordered list of nodes with designated outputs;
 /// what the evaluators run. Node ids inside a tape refer to tape positions.
-#[derive(Clone, Debug, PartialEq)]
+/// Equal and hashed by content (caches of compiled evaluators key on it).
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct Tape {
     /// The operations in evaluation order; children precede parents.
     pub nodes: Vec<Node>,

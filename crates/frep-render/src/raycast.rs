@@ -441,10 +441,7 @@ fn batch_bytes(b: &mut BatchEval) -> usize {
 fn tape_hash(t: &Tape) -> u64 {
     use std::hash::{Hash, Hasher};
     let mut h = std::collections::hash_map::DefaultHasher::new();
-    t.nodes.hash(&mut h);
-    for o in &t.outputs {
-        o.index().hash(&mut h);
-    }
+    t.hash(&mut h);
     h.finish()
 }
 

@@ -307,19 +307,12 @@ thread_local! {
     static BATCH_EVALS: Cell<BatchCache> = Cell::new(BatchCache::default());
 }
 
-fn tape_hash(t: &Tape) -> u64 {
-    let mut h = KeyHasher::default();
-    t.nodes.hash(&mut h);
-    for o in &t.outputs {
-        h.write_u64(o.index() as u64);
-    }
-    h.finish()
-}
-
 /// Runs `f` with this thread's batch evaluator of `tape` (compiled on first use).
 fn with_batch<R>(tape: &Tape, f: impl FnOnce(&mut BatchEval) -> R) -> R {
     let mut cache = BATCH_EVALS.with(Cell::take);
-    let h = tape_hash(tape);
+    let mut hasher = KeyHasher::default();
+    tape.hash(&mut hasher);
+    let h = hasher.finish();
     let evals = &mut cache.evals;
     match evals.iter().rposition(|(k, e)| *k == h && e.tape() == tape) {
         Some(i) => {
