@@ -1,6 +1,6 @@
 //! Images, hit buffers (what the ray caster produces) and shading.
 
-use crate::camera::{add, dot, normalize, scale, sub, Camera, Projection};
+use crate::camera::{add, dot, normalize, scale, Camera, Projection};
 
 /// An 8-bit sRGB image with alpha, rows top to bottom.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -263,20 +263,25 @@ pub fn linear_to_srgb(c: f32) -> f32 {
     }
 }
 
-/// `x.powi(n)` by the same square-and-multiply sequence as the `powi`
-/// intrinsic's runtime routine, inline (the routine is an out-of-line call).
+/// `x.powi(n)` for every lane, by the same square-and-multiply sequence as
+/// the `powi` intrinsic's runtime routine (the same bits), all lanes at once
+/// (the routine is an out-of-line call per value).
 #[inline]
-fn powi(mut x: f32, mut n: u32) -> f32 {
-    let mut r = 1.0f32;
+fn powi_lanes(mut x: [f32; SPAN], mut n: u32) -> [f32; SPAN] {
+    let mut r = [1.0f32; SPAN];
     loop {
         if n & 1 == 1 {
-            r *= x;
+            for j in 0..SPAN {
+                r[j] *= x[j];
+            }
         }
         n /= 2;
         if n == 0 {
             return r;
         }
-        x *= x;
+        for v in x.iter_mut() {
+            *v *= *v;
+        }
     }
 }
 
@@ -324,12 +329,18 @@ fn srgb_table() -> &'static SrgbTable {
             }
             f32::from_bits(lo)
         });
-        let idx = (0..=SRGB_CELLS)
+        let idx: Vec<u8> = (0..=SRGB_CELLS)
             .map(|q| {
                 let x = q as f32 / SRGB_CELLS as f32;
                 t.partition_point(|&v| v <= x) as u8
             })
             .collect();
+        // The steepest part of the curve climbs about 3300 bytes per unit,
+        // fewer than the cells: no cell holds two thresholds.
+        assert!(
+            idx.windows(2).all(|w| w[1] - w[0] <= 1),
+            "sRGB index: two thresholds in one cell"
+        );
         SrgbTable { t, idx }
     })
 }
@@ -348,11 +359,10 @@ impl SrgbTable {
         if c >= 1.0 {
             return 255;
         }
-        let mut b = tab.idx[(c * SRGB_CELLS as f32) as usize] as usize;
-        while b < 255 && tab.t[b] <= c {
-            b += 1;
-        }
-        b as u8
+        // At most one threshold lies inside a cell (checked when the table
+        // is built): the byte is the cell's count, plus one past it.
+        let b = tab.idx[(c * SRGB_CELLS as f32) as usize] as usize;
+        (b + usize::from(b < 255 && tab.t[b.min(254)] <= c)) as u8
     }
 }
 
@@ -366,13 +376,12 @@ pub fn shade(hits: &HitBuffer, lighting: &Lighting) -> Image {
     let (w, h) = (hits.width, hits.height);
     let shader = Shader::new(&hits.camera, lighting, w, h);
     let mut img = Image::filled(w, h, [0, 0, 0, 255]);
+    let w = w as usize;
     for y in 0..h {
-        for x in 0..w {
-            let i = y as usize * w as usize + x as usize;
-            let ao = hits.ao.as_ref().map(|a| a[i]);
-            let rgb = shader.pixel(x, y, hits.hits[i].as_ref(), ao);
-            img.rgba[i * 4..i * 4 + 3].copy_from_slice(&rgb);
-        }
+        let row = y as usize * w..(y as usize + 1) * w;
+        let ao = hits.ao.as_ref().map(|a| &a[row.clone()]);
+        let rgba = &mut img.rgba[row.start * 4..row.end * 4];
+        shader.span(y, &hits.hits[row], ao, rgba);
     }
     img
 }
@@ -443,76 +452,200 @@ impl Shader {
     }
 
     /// The RGB bytes of pixel `(x, y)` with this hit (`None`: background)
-    /// and ambient-occlusion factor (`None`: fully open).
+    /// and ambient-occlusion factor (`None`: fully open): what
+    /// [`Shader::span`] gives that pixel.
     pub fn pixel(&self, x: u32, y: u32, hit: Option<&Hit>, ao: Option<f32>) -> [u8; 3] {
-        let lighting = &self.lighting;
-        let cam = &self.camera;
         // The pixel column does not matter (yet): the view direction comes
         // from the hit.
         let _ = x;
+        let mut rgba = [0u8; 4];
+        let ao = ao.map(|a| [a]);
+        self.span(y, &[hit.copied()], ao.as_ref().map(|a| &a[..]), &mut rgba);
+        [rgba[0], rgba[1], rgba[2]]
+    }
+
+    /// The background colour of row `y` (the vertical gradient).
+    fn background(&self, y: u32) -> [u8; 3] {
+        let lighting = &self.lighting;
         let h = self.height;
-        let encode = |c: f32| {
-            if lighting.srgb {
-                self.srgb.byte(c)
-            } else {
-                to_byte(c.clamp(0.0, 1.0))
-            }
-        };
-        let Some(hit) = hit else {
-            let s = if h > 1 {
-                y as f32 / (h - 1) as f32
-            } else {
-                0.5
-            };
-            return std::array::from_fn(|k| {
-                to_byte(lighting.background_top[k] * (1.0 - s) + lighting.background_bottom[k] * s)
-            });
-        };
-        let (key, fill, rim) = (self.key, self.fill, self.rim);
-        // The direction back along the pixel's ray (`cam.ray(x, y).origin`
-        // is the eye, or for orthographic views a point straight back).
-        let (view, half) = match self.ortho {
-            Some(vh) => vh,
-            None => {
-                let view = Shader::view_or_back(cam, normalize(sub(cam.eye, hit.position)));
-                (view, normalize(add(key, view)))
-            }
-        };
-        let mut n = normalize(hit.normal);
-        if !(n.iter().all(|v| v.is_finite()) && dot(n, n) > 0.5) {
-            n = view;
-        }
-        if dot(n, view) < 0.0 {
-            n = scale(n, -1.0);
-        }
-        let albedo = hit.color.map_or(self.base, |c| c.map(srgb_to_linear));
-        let ao = ao.map_or(1.0, |a| {
-            1.0 - lighting.ao_strength * (1.0 - a.clamp(0.0, 1.0))
-        });
-        let hemi = 0.5 + 0.5 * n[2] as f32;
-        let kd = dot(n, key).max(0.0) as f32;
-        let fd = dot(n, fill).max(0.0) as f32;
-        let rd = dot(n, rim).max(0.0) as f32;
-        let spec = if kd > 0.0 {
-            let x = dot(n, half).max(0.0) as f32;
-            // Whole exponents (the default 40) by multiplication, no powf.
-            let p = match self.whole_shininess {
-                Some(e) => powi(x, e),
-                None => x.powf(lighting.shininess),
-            };
-            lighting.specular * p
+        let s = if h > 1 {
+            y as f32 / (h - 1) as f32
         } else {
-            0.0
+            0.5
         };
         std::array::from_fn(|k| {
-            let amb = (lighting.sky[k] * hemi + lighting.ground[k] * (1.0 - hemi)) * ao;
-            let diffuse = lighting.key.color[k] * kd
-                + lighting.fill.color[k] * fd
-                + lighting.rim.color[k] * rd;
-            let c = albedo[k] * (amb + diffuse * (0.35 + 0.65 * ao))
-                + spec * lighting.key.color[k] * ao;
-            encode(c)
+            to_byte(lighting.background_top[k] * (1.0 - s) + lighting.background_bottom[k] * s)
         })
+    }
+
+    /// Shades a run of pixels of row `y`: `hits[j]` (`None`: background)
+    /// with ambient-occlusion factor `ao[j]` (`None`: fully open) gives the
+    /// RGB bytes `rgba[4j..4j + 3]` (the alpha bytes are left alone).
+    ///
+    /// The pixels are shaded [`SPAN`] at a time, each step a loop over
+    /// those pixels (vectorised): every pixel gets the same bytes whatever
+    /// its neighbours, and [`Shader::pixel`] is this for one pixel.
+    ///
+    /// # Panics
+    /// If `rgba` holds fewer than `4 · hits.len()` bytes, or `ao` is given
+    /// with fewer entries than `hits`.
+    pub fn span(&self, y: u32, hits: &[Option<Hit>], ao: Option<&[f32]>, rgba: &mut [u8]) {
+        assert!(rgba.len() >= 4 * hits.len(), "Shader::span: rgba too short");
+        if let Some(a) = ao {
+            assert!(a.len() >= hits.len(), "Shader::span: ao too short");
+        }
+        let bg = self.background(y);
+        for (c, hits) in hits.chunks(SPAN).enumerate() {
+            let o = c * SPAN;
+            let ao = ao.map(|a| &a[o..o + hits.len()]);
+            self.chunk(bg, hits, ao, &mut rgba[4 * o..4 * (o + hits.len())]);
+        }
+    }
+
+    /// [`Shader::span`] for at most [`SPAN`] pixels.
+    fn chunk(&self, bg: [u8; 3], hits: &[Option<Hit>], ao: Option<&[f32]>, rgba: &mut [u8]) {
+        let lighting = &self.lighting;
+        let cam = &self.camera;
+        let m = hits.len();
+        debug_assert!(m <= SPAN);
+        // Gather: per pixel, the hit's normal (raw), position, albedo and
+        // occlusion, structure of arrays. Misses get harmless values (they
+        // are not written).
+        let mut n = [[0.0f64; SPAN]; 3];
+        let mut p = [[0.0f64; SPAN]; 3];
+        let mut albedo = [[0.0f32; SPAN]; 3];
+        let mut aof = [1.0f32; SPAN];
+        let mut any = false;
+        for (j, h) in hits.iter().enumerate() {
+            let Some(h) = h else { continue };
+            any = true;
+            for k in 0..3 {
+                n[k][j] = h.normal[k];
+                p[k][j] = h.position[k];
+            }
+            let a = h.color.map_or(self.base, |c| c.map(srgb_to_linear));
+            for k in 0..3 {
+                albedo[k][j] = a[k];
+            }
+            if let Some(ao) = ao {
+                aof[j] = 1.0 - lighting.ao_strength * (1.0 - ao[j].clamp(0.0, 1.0));
+            }
+        }
+        if !any {
+            for px in rgba.chunks_exact_mut(4) {
+                px[..3].copy_from_slice(&bg);
+            }
+            return;
+        }
+        let (key, fill, rim) = (self.key, self.fill, self.rim);
+        let back = scale(cam.forward, -1.0);
+        // The direction back along each pixel's ray and the key light's
+        // half vector (the same for every pixel of an orthographic view).
+        let mut view = [[0.0f64; SPAN]; 3];
+        let mut half = [[0.0f64; SPAN]; 3];
+        match self.ortho {
+            Some((v, hv)) => {
+                for k in 0..3 {
+                    view[k] = [v[k]; SPAN];
+                    half[k] = [hv[k]; SPAN];
+                }
+            }
+            None => {
+                let eye = cam.eye;
+                for j in 0..SPAN {
+                    let v = normalize3([eye[0] - p[0][j], eye[1] - p[1][j], eye[2] - p[2][j]]);
+                    let ok = v.iter().all(|c| c.is_finite()) && dot(v, v) > 0.5;
+                    let v = if ok { v } else { back };
+                    let hv = normalize3([key[0] + v[0], key[1] + v[1], key[2] + v[2]]);
+                    for k in 0..3 {
+                        view[k][j] = v[k];
+                        half[k][j] = hv[k];
+                    }
+                }
+            }
+        }
+        // The unit normal facing the viewer (the view direction where the
+        // normal is unusable), and the light terms.
+        let mut hemi = [0.0f32; SPAN];
+        let mut kd = [0.0f32; SPAN];
+        let mut fd = [0.0f32; SPAN];
+        let mut rd = [0.0f32; SPAN];
+        let mut sx = [0.0f32; SPAN];
+        for j in 0..SPAN {
+            let nn = normalize3([n[0][j], n[1][j], n[2][j]]);
+            let v = [view[0][j], view[1][j], view[2][j]];
+            let ok = nn.iter().all(|c| c.is_finite()) && dot(nn, nn) > 0.5;
+            let nn = if ok { nn } else { v };
+            let nn = if dot(nn, v) < 0.0 {
+                scale(nn, -1.0)
+            } else {
+                nn
+            };
+            hemi[j] = 0.5 + 0.5 * nn[2] as f32;
+            kd[j] = dot(nn, key).max(0.0) as f32;
+            fd[j] = dot(nn, fill).max(0.0) as f32;
+            rd[j] = dot(nn, rim).max(0.0) as f32;
+            sx[j] = dot(nn, [half[0][j], half[1][j], half[2][j]]).max(0.0) as f32;
+        }
+        // Blinn–Phong: whole exponents (the default 40) by multiplication.
+        let mut spec = match self.whole_shininess {
+            Some(e) => powi_lanes(sx, e),
+            None => sx.map(|x| x.powf(lighting.shininess)),
+        };
+        for j in 0..SPAN {
+            spec[j] = if kd[j] > 0.0 {
+                lighting.specular * spec[j]
+            } else {
+                0.0
+            };
+        }
+        let mut lin = [[0.0f32; SPAN]; 3];
+        for (k, lin) in lin.iter_mut().enumerate() {
+            let (sky, ground) = (lighting.sky[k], lighting.ground[k]);
+            let (kc, fc, rc) = (
+                lighting.key.color[k],
+                lighting.fill.color[k],
+                lighting.rim.color[k],
+            );
+            for j in 0..SPAN {
+                let ao = aof[j];
+                let amb = (sky * hemi[j] + ground * (1.0 - hemi[j])) * ao;
+                let diffuse = kc * kd[j] + fc * fd[j] + rc * rd[j];
+                lin[j] = albedo[k][j] * (amb + diffuse * (0.35 + 0.65 * ao)) + spec[j] * kc * ao;
+            }
+        }
+        for (j, (h, px)) in hits.iter().zip(rgba.chunks_exact_mut(4)).enumerate() {
+            if h.is_none() {
+                px[..3].copy_from_slice(&bg);
+                continue;
+            }
+            for k in 0..3 {
+                let c = lin[k][j];
+                px[k] = if lighting.srgb {
+                    self.srgb.byte(c)
+                } else {
+                    to_byte(c.clamp(0.0, 1.0))
+                };
+            }
+        }
+    }
+}
+
+/// Pixels per pass of [`Shader::span`].
+pub const SPAN: usize = 32;
+
+/// `normalize` with its test written branch-free (so loops over pixels
+/// vectorise); the same values.
+#[inline(always)]
+fn normalize3(a: [f64; 3]) -> [f64; 3] {
+    let l = dot(a, a).sqrt();
+    let ok = l > 0.0 && l.is_finite();
+    let inv = 1.0 / l;
+    let s = scale(a, inv);
+    if ok {
+        s
+    } else {
+        a
     }
 }
 
@@ -544,9 +677,17 @@ mod tests {
     #[test]
     fn powi_matches_std() {
         for n in [0u32, 1, 2, 3, 7, 40, 41, 1024] {
-            for i in 0..=1000 {
-                let x = i as f32 / 1000.0;
-                assert_eq!(powi(x, n).to_bits(), x.powi(n as i32).to_bits(), "{x}^{n}");
+            for i in (0..=1000).step_by(SPAN) {
+                let x: [f32; SPAN] = std::array::from_fn(|j| (i + j) as f32 / 1000.0);
+                let p = powi_lanes(x, n);
+                for j in 0..SPAN {
+                    assert_eq!(
+                        p[j].to_bits(),
+                        x[j].powi(n as i32).to_bits(),
+                        "{}^{n}",
+                        x[j]
+                    );
+                }
             }
         }
     }
@@ -609,6 +750,42 @@ mod tests {
         }
         let p = shade(&hits, &Lighting::default()).pixel(8, 8);
         assert!(lum(p) > 100);
+    }
+
+    /// A row shaded in one call gives every pixel the bytes it gets alone,
+    /// whatever its neighbours in the pass (hits, misses, colours, occlusion,
+    /// unusable and back-facing normals; both projections).
+    #[test]
+    fn span_matches_pixel() {
+        let b = Aabb::new([-1.0; 3], [1.0; 3]);
+        for ortho in [false, true] {
+            let mut cam = Camera::orbit(&b, 30.0, 20.0, Some(35.0));
+            if ortho {
+                cam = Camera::orbit(&b, 30.0, 20.0, None);
+            }
+            let hits = sphere_hits(&cam, 80, 3, [0.1, 0.0, 0.0], 0.8, None);
+            let mut row: Vec<Option<Hit>> = hits.hits[80..160].to_vec();
+            for (j, h) in row.iter_mut().enumerate() {
+                let Some(h) = h else { continue };
+                match j % 5 {
+                    1 => h.color = Some([0.9, 0.2, 0.1]),
+                    2 => h.normal = [f64::NAN; 3],
+                    3 => h.normal = scale(h.normal, -3.0),
+                    4 => h.normal = [0.0; 3],
+                    _ => {}
+                }
+            }
+            let ao: Vec<f32> = (0..80).map(|j| (j % 7) as f32 / 6.0).collect();
+            let shader = Shader::new(&cam, &Lighting::default(), 80, 3);
+            for a in [None, Some(&ao[..])] {
+                let mut rgba = vec![0u8; 80 * 4];
+                shader.span(1, &row, a, &mut rgba);
+                for (j, h) in row.iter().enumerate() {
+                    let one = shader.pixel(j as u32, 1, h.as_ref(), a.map(|a| a[j]));
+                    assert_eq!(rgba[4 * j..4 * j + 3], one, "pixel {j}, ortho {ortho}");
+                }
+            }
+        }
     }
 
     #[test]

@@ -1707,14 +1707,16 @@ pub fn render_with(
                     ambient_occlusion(ev, caster, &hits, &mut ao);
                 }
                 let mut rgba = vec![255u8; n * 4];
-                let mut i = 0;
-                for y in t.y0..t.y1 {
-                    for x in t.x0..t.x1 {
-                        let a = ao.get(i).copied();
-                        let rgb = shader.pixel(x, y, hits[i].as_ref(), a);
-                        rgba[i * 4..i * 4 + 3].copy_from_slice(&rgb);
-                        i += 1;
-                    }
+                let tw = t.w() as usize;
+                for (r, y) in (t.y0..t.y1).enumerate() {
+                    let row = r * tw..(r + 1) * tw;
+                    let a = (!ao.is_empty()).then(|| &ao[row.clone()]);
+                    shader.span(
+                        y,
+                        &hits[row.clone()],
+                        a,
+                        &mut rgba[row.start * 4..row.end * 4],
+                    );
                 }
                 (t, rgba)
             },
