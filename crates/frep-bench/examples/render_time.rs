@@ -53,6 +53,9 @@ fn main() {
             if let Some(v) = knob("FREP_LEAF_DEPTH_PX") {
                 caster.leaf_depth_px = v;
             }
+            if let Some(v) = knob("FREP_NARROW_PX") {
+                caster.narrow_px = v;
+            }
             if let Some(v) = knob("FREP_FALLBACK_DEPTH") {
                 caster.fallback_depth = v as u32;
             }

@@ -421,6 +421,41 @@ proptest! {
     }
 }
 
+/// `sin a` and `cos a` of one argument are computed together (one argument
+/// reduction): the same bits as the lane functions, whichever comes first,
+/// with the argument, a coordinate or a computed value, used again after
+/// both, and with arguments beyond the vectorised range (1e7, ±∞, NaN).
+#[test]
+fn sin_and_cos_of_one_argument() {
+    let mut g = Graph::new();
+    let (x, y, z) = (g.x(0), g.x(1), g.x(2));
+    let three = g.constant(3.0);
+    let a = g.binary(BinaryOp::Mul, x, three);
+    let sa = g.unary(UnaryOp::Sin, a);
+    let ca = g.unary(UnaryOp::Cos, a);
+    let cy = g.unary(UnaryOp::Cos, y);
+    let sy = g.unary(UnaryOp::Sin, y);
+    let sz = g.unary(UnaryOp::Sin, z);
+    let css = g.unary(UnaryOp::Cos, sa);
+    let sss = g.unary(UnaryOp::Sin, sa);
+    let t1 = g.binary(BinaryOp::Mul, sa, ca);
+    let t2 = g.binary(BinaryOp::Mul, cy, css);
+    let t3 = g.binary(BinaryOp::Add, sy, sss);
+    let t4 = g.binary(BinaryOp::Sub, a, sz);
+    let s1 = g.binary(BinaryOp::Add, t1, t2);
+    let s2 = g.binary(BinaryOp::Add, t3, t4);
+    let out = g.binary(BinaryOp::Add, s1, s2);
+    let tape = g.tape(&[out, ca]);
+    // 15 varying operations, three pairs among them.
+    assert_eq!(BatchEval::new(&tape).program_size().0, 12);
+    let mut rng = Rng(0x9999_aaaa_bbbb_cccc);
+    for n in [1, 7, 129, 1000] {
+        let pts = points(&mut rng, n);
+        let inp = inputs(&mut rng);
+        check_all_outputs(&tape, &pts, &inp, lane_walk);
+    }
+}
+
 #[test]
 fn lanes_constant_is_reasonable() {
     const { assert!(LANES >= 8 && LANES.is_power_of_two()) };

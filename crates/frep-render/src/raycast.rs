@@ -13,7 +13,11 @@
 //!    back: first along the depth (interval bisection along the frustum)
 //!    until a depth slab is about as deep as the rectangle is wide in pixel
 //!    footprints, then into four sub-rectangles and two depth halves, down
-//!    to leaves of [`LEAF`]×[`LEAF`] pixels.
+//!    to leaves of [`LEAF`]×[`LEAF`] pixels. A leaf's slab is narrowed to
+//!    the part that may hold the surface by interval evaluations over
+//!    sub-slabs [`ModelCaster::narrow_px`] footprints deep (no node
+//!    bookkeeping per sub-slab: one leaf is sampled over the span from the
+//!    first to the last sub-slab that is not outside).
 //! 2. **Leaves.** Every unresolved ray of a leaf is sampled at steps of
 //!    [`ModelCaster::step_px`] pixel footprints across the slab, all rays of
 //!    the leaf in one batch ([`BatchEval`], vectorised across rays). The
@@ -120,6 +124,10 @@ pub struct ModelCaster {
     /// Leaves are sampled once their depth slab is at most this many pixel
     /// footprints deep (deeper ones are split by interval bisection first).
     pub leaf_depth_px: f64,
+    /// A leaf's slab is narrowed to the part that may hold the surface by
+    /// interval evaluations over sub-slabs about this many pixel footprints
+    /// deep (0: not narrowed).
+    pub narrow_px: f64,
     stats: AtomicStats,
     /// Per-thread evaluators and buffers, reused from tile to tile.
     pool: Mutex<Vec<Scratch>>,
@@ -138,6 +146,7 @@ impl ModelCaster {
             step_px: 2.0,
             fallback_depth: 3,
             leaf_depth_px: 16.0,
+            narrow_px: 4.0,
             stats: AtomicStats::default(),
             pool: Mutex::new(Vec::new()),
         }
@@ -154,6 +163,7 @@ impl ModelCaster {
             step_px: 2.0,
             fallback_depth: 3,
             leaf_depth_px: 16.0,
+            narrow_px: 4.0,
             stats: AtomicStats::default(),
             pool: Mutex::new(Vec::new()),
         }
@@ -901,9 +911,50 @@ impl<'a> TileCtx<'a> {
             let zm = 0.5 * (za + zb);
             self.node(e, rect, k, za, zm);
             self.node(e, rect, k, zm, zb);
-        } else {
+        } else if let Some((za, zb)) = self.narrow(e, k, za, zb) {
             self.leaf(e, rect, za, zb);
         }
+    }
+
+    /// The part of a leaf's slab `[za, zb]` that may hold the surface: the
+    /// slab is cut into sub-slabs about [`ModelCaster::narrow_px`] pixel
+    /// footprints deep, each evaluated over the leaf's frustum, and the
+    /// outside ones in front of the first that is not and behind the last
+    /// are dropped (nothing can cross there; a sub-slab inside throughout
+    /// ends the search). `None`: all outside.
+    fn narrow(&mut self, e: usize, k: &Corners, za: f64, zb: f64) -> Option<(f64, f64)> {
+        let q = self.caster.narrow_px * self.footprint(za);
+        if !(q > 0.0) {
+            return Some((za, zb));
+        }
+        let m = (((zb - za) / q).round() as usize).min(16);
+        if m < 2 {
+            return Some((za, zb));
+        }
+        let d = (zb - za) / m as f64;
+        let at = |j: usize| if j == m { zb } else { za + d * j as f64 };
+        let (mut first, mut last) = (None, 0);
+        for j in 0..m {
+            let Some(b) = clip_box(&k.aabb(at(j), at(j + 1)), &self.caster.bounds) else {
+                continue;
+            };
+            self.stats.interval_evals += 1;
+            let v = self.sc.evals[e].interval.eval(
+                iv(b.min[0], b.max[0]),
+                iv(b.min[1], b.max[1]),
+                iv(b.min[2], b.max[2]),
+                &self.caster.inputs,
+            );
+            if v.is_outside() {
+                continue;
+            }
+            first.get_or_insert(j);
+            last = j;
+            if v.is_positive() {
+                break;
+            }
+        }
+        first.map(|f| (at(f), at(last + 1)))
     }
 
     /// The box inside the solid throughout: rays still searching hit it

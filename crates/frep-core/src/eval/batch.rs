@@ -146,6 +146,9 @@ enum Instr {
     PowI(u32, u32, i32),
     Select(u32, [u32; 3]),
     Blend(BlendOp, u32, [u32; 5]),
+    /// `sin` into the first register and `cos` into the second, of the
+    /// third (one argument reduction for both).
+    SinCos(u32, u32, u32),
 }
 
 /// A compiled register program for a subset of the outputs.
@@ -375,6 +378,36 @@ fn compile(tape: &Tape, alias: &[u32], loc: &[Loc], outputs: &[NodeId]) -> Progr
         bcast: Vec::new(),
         bcast_of: std::collections::HashMap::new(),
     };
+    // `sin a` and `cos a` of the same varying `a`, both needed: computed
+    // together where the first of the two comes (`partner[first] =
+    // second`); the second is then only a register.
+    let mut partner = vec![u32::MAX; n];
+    {
+        let mut first_of = std::collections::HashMap::new();
+        for i in 0..n {
+            if !(needed[i] && loc[i] == Loc::Var) || alias[i] as usize != i {
+                continue;
+            }
+            if let Node::Unary(op @ (UnaryOp::Sin | UnaryOp::Cos), a) = tape.nodes[i] {
+                let a = res(a);
+                if loc[a] != Loc::Var {
+                    continue;
+                }
+                let other = if op == UnaryOp::Sin {
+                    UnaryOp::Cos
+                } else {
+                    UnaryOp::Sin
+                };
+                match first_of.get(&(other, a)) {
+                    Some(&f) if partner[f] == u32::MAX => partner[f] = i as u32,
+                    _ => {
+                        first_of.entry((op, a)).or_insert(i);
+                    }
+                }
+            }
+        }
+    }
+    let mut fused = vec![false; n];
     let mut xyz = [false; 3];
     let mut instrs = Vec::new();
     for i in 0..n {
@@ -382,6 +415,35 @@ fn compile(tape: &Tape, alias: &[u32], loc: &[Loc], outputs: &[NodeId]) -> Progr
             continue;
         }
         let node = tape.nodes[i];
+        if fused[i] {
+            // Computed with its partner: free its operand if this was its
+            // last use.
+            let a = node.children().next().map(res).expect("a unary node");
+            if last[a] == i as u32 && !matches!(tape.nodes[a], Node::X(_)) {
+                st.free.push(st.reg[a]);
+            }
+            continue;
+        }
+        if partner[i] != u32::MAX {
+            let (Node::Unary(op, a), j) = (node, partner[i] as usize) else {
+                unreachable!("partners are unary")
+            };
+            let a = res(a);
+            let ra = st.reg[a];
+            let (d1, d2) = (st.alloc(), st.alloc());
+            st.reg[i] = d1;
+            st.reg[j] = d2;
+            fused[j] = true;
+            instrs.push(if op == UnaryOp::Sin {
+                Instr::SinCos(d1, d2, ra)
+            } else {
+                Instr::SinCos(d2, d1, ra)
+            });
+            if last[a] == i as u32 && !matches!(tape.nodes[a], Node::X(_)) {
+                st.free.push(ra);
+            }
+            continue;
+        }
         if let Node::X(k) = node {
             // Varying coordinates are k < 3.
             xyz[k as usize] = true;
@@ -418,6 +480,7 @@ fn compile(tape: &Tape, alias: &[u32], loc: &[Loc], outputs: &[NodeId]) -> Progr
             Instr::PowI(_, a, k) => Instr::PowI(dst, a, k),
             Instr::Select(_, o) => Instr::Select(dst, o),
             Instr::Blend(op, _, o) => Instr::Blend(op, dst, o),
+            Instr::SinCos(..) => unreachable!("emitted above"),
         });
         // Free the registers of operands used for the last time.
         let mut seen = [usize::MAX; 5];
@@ -686,6 +749,20 @@ fn exec(ins: &Instr, regs: &mut [Block], uni: &[f64], m: usize) {
             for (((o, &c), &t), &e) in d[..m].iter_mut().zip(&c[..m]).zip(&t[..m]).zip(&e[..m]) {
                 *o = select_lane(c, t, e);
             }
+        }
+        Instr::SinCos(ds, dc, a) => {
+            // Three distinct registers (the destinations are allocated while
+            // the operand is live): the operand is copied out first.
+            let x = regs[a as usize];
+            let (ds, dc) = (ds as usize, dc as usize);
+            let (lo, hi) = regs.split_at_mut(ds.max(dc));
+            let (first, second) = (&mut lo[ds.min(dc)], &mut hi[0]);
+            let (s, c) = if ds < dc {
+                (first, second)
+            } else {
+                (second, first)
+            };
+            sm::sincos_slice(&x[..m], &mut s[..m], &mut c[..m]);
         }
         Instr::Blend(op, dst, s) => {
             let (d, [f1, f2, a0, a1, a2]) = split(regs, dst, s);

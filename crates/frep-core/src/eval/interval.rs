@@ -402,19 +402,24 @@ fn sin_cos(a: Interval, is_cos: bool) -> Interval {
     if a.has_inf() || a.hi - a.lo >= 2.0 * PI || mag > 1e9 {
         return make(-1.0, 1.0, nan);
     }
-    let f = |v: f64| if is_cos { v.cos() } else { v.sin() };
-    let (fl, fh) = (f(a.lo), f(a.hi));
-    let mut lo = down(fl.min(fh), LIBM_ULPS);
-    let mut hi = up(fl.max(fh), LIBM_ULPS);
     let (omax, omin) = if is_cos {
         (0.0, PI)
     } else {
         (FRAC_PI_2, -FRAC_PI_2)
     };
-    if hits(a, omax, 2.0 * PI) {
+    let (has_max, has_min) = (hits(a, omax, 2.0 * PI), hits(a, omin, 2.0 * PI));
+    if has_max && has_min {
+        // Both extremes inside: the ends do not matter.
+        return make(-1.0, 1.0, nan);
+    }
+    let f = |v: f64| if is_cos { v.cos() } else { v.sin() };
+    let (fl, fh) = (f(a.lo), f(a.hi));
+    let mut lo = down(fl.min(fh), LIBM_ULPS);
+    let mut hi = up(fl.max(fh), LIBM_ULPS);
+    if has_max {
         hi = 1.0;
     }
-    if hits(a, omin, 2.0 * PI) {
+    if has_min {
         lo = -1.0;
     }
     make(lo.max(-1.0), hi.min(1.0), nan)

@@ -439,6 +439,23 @@ pub fn cos_slice(input: &[f64], out: &mut [f64]) {
     fix_up(input, out, trig_in_range, f64::cos);
 }
 
+/// `sin` and `cos` of every lane, from one argument reduction per lane (the
+/// same values as [`sin_slice`] and [`cos_slice`]).
+///
+/// # Panics
+/// If the three slices differ in length.
+pub fn sincos_slice(input: &[f64], sin_out: &mut [f64], cos_out: &mut [f64]) {
+    assert!(
+        sin_out.len() == input.len() && cos_out.len() == input.len(),
+        "sincos_slice: slices of different lengths"
+    );
+    for ((s, c), &x) in sin_out.iter_mut().zip(cos_out.iter_mut()).zip(input) {
+        (*s, *c) = sincos_core(x);
+    }
+    fix_up(input, sin_out, trig_in_range, f64::sin);
+    fix_up(input, cos_out, trig_in_range, f64::cos);
+}
+
 /// [`tan_checked`] of every lane.
 pub fn tan_checked_slice(input: &[f64], out: &mut [f64]) {
     map(input, out, tan_checked_core);
