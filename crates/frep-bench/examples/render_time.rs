@@ -3,7 +3,9 @@
 //! render benchmark's orthographic top-down view, over `[-1, 1]³` for M1–M4 and
 //! the cube of the model's box otherwise) or `turn` (the perspective
 //! turntable of the model's own box). Prints the minimum time per example,
-//! and the caster's counters with `FREP_BENCH_STATS=1`.
+//! and the caster's counters with `FREP_BENCH_STATS=1`. The caster's knobs
+//! and the tile size can be set for experiments: `FREP_STEP_PX`,
+//! `FREP_LEAF_DEPTH_PX`, `FREP_NARROW_PX`, `FREP_FALLBACK_DEPTH`, `FREP_TILE`.
 
 use frep_bench::alloc::{peak_during, Counting};
 use frep_bench::{example_box, example_sources, top_cube, top_view, Args};
@@ -36,11 +38,14 @@ fn main() {
             };
             (b, s.camera())
         };
-        let s = RenderSettings {
+        let mut s = RenderSettings {
             size: (size, size),
             bounds,
             ..Default::default()
         };
+        if let Some(t) = std::env::var("FREP_TILE").ok().and_then(|v| v.parse().ok()) {
+            s.tile_size = t;
+        }
         let mut best = Duration::MAX;
         let mut stats = None;
         let mut peak = 0usize;

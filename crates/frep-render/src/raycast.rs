@@ -225,6 +225,9 @@ impl TileCaster for ModelCaster {
 /// The evaluators of one (possibly shortened) tape.
 struct Evals {
     tape: Tape,
+    /// Whether [`SimplifyMode::Sign`] can ever shorten the tape (see
+    /// [`may_shorten`]).
+    shortens: bool,
     interval: IntervalEval,
     batch: Option<BatchEval>,
     grad: Option<GradEval>,
@@ -234,6 +237,7 @@ impl Evals {
     fn new(tape: Tape) -> Evals {
         Evals {
             interval: IntervalEval::new(&tape),
+            shortens: may_shorten(&tape),
             tape,
             batch: None,
             grad: None,
@@ -249,6 +253,40 @@ impl Evals {
         let tape = &self.tape;
         self.grad.get_or_insert_with(|| GradEval::new(tape))
     }
+}
+
+/// Whether simplifying for the sign ([`SimplifyMode::Sign`]) can shorten
+/// `tape` over some box where its value is not decided: only a node that
+/// picks an argument or a branch (`min`, `max`, R-functions, `and`, `or`,
+/// `select`), a boolean one (a comparison, `not`: a constant once decided),
+/// a `Check` (its value alone is kept) or a sign use of a decided argument
+/// (under `-` or those nodes) changes anything; a tape of plain arithmetic
+/// (a sphere's `r - sqrt(x² + y² + z²)`) never shortens, and its interval
+/// choices need not be looked at.
+fn may_shorten(tape: &Tape) -> bool {
+    use frep_core::ops::{BinaryOp as B, UnaryOp as U};
+    use frep_core::Node;
+    tape.nodes.iter().any(|n| match n {
+        Node::Binary(op, ..) => matches!(
+            op,
+            B::Min
+                | B::Max
+                | B::RUnion
+                | B::RInter
+                | B::RDiff
+                | B::And
+                | B::Or
+                | B::Lt
+                | B::Gt
+                | B::Le
+                | B::Ge
+                | B::Eq
+                | B::Ne
+        ),
+        Node::Unary(op, _) => matches!(op, U::Neg | U::Not),
+        Node::Select(..) | Node::Check(..) => true,
+        _ => false,
+    })
 }
 
 /// Above about this many bytes of evaluators held by one [`Scratch`], its
@@ -405,6 +443,12 @@ impl Scratch {
             inputs,
             &mut self.vals[..n],
         );
+    }
+
+    /// Whether ray `i` is resolved (its hit found, perhaps not recorded
+    /// yet) or dead.
+    fn resolved(&self, i: usize) -> bool {
+        self.z0s[i] == f64::INFINITY
     }
 
     /// Takes ray `i` out of the depth ranges searched.
@@ -713,7 +757,7 @@ impl<'a> TileCtx<'a> {
         self.node(0, rect, &k, zmin, zmax);
         // Rays whose last samples rose to the end of their last slab.
         for i in 0..self.sc.rays.len() {
-            if self.out[i].is_none() && self.sc.tails[i].pending {
+            if self.sc.tails[i].pending && !self.sc.resolved(i) {
                 let t = self.sc.tails[i];
                 self.sc.tails[i].pending = false;
                 self.sc.tail_list.push((i, t));
@@ -804,7 +848,7 @@ impl<'a> TileCtx<'a> {
     fn shorten(&mut self, e: usize) -> usize {
         let sc = &mut *self.sc;
         let ev = &sc.evals[e];
-        if ev.tape.len() <= 4 {
+        if ev.tape.len() <= 4 || !ev.shortens {
             return e;
         }
         let choices = ev.interval.choices();
@@ -967,7 +1011,7 @@ impl<'a> TileCtx<'a> {
                 let i = (y * self.tw + x) as usize;
                 let r = self.sc.rays[i];
                 let t = self.sc.tails[i];
-                if !r.live || self.out[i].is_some() || r.z1 < za || r.z0 > zb || !t.pending {
+                if !t.pending || !r.live || self.sc.resolved(i) || r.z1 < za || r.z0 > zb {
                     continue;
                 }
                 self.sc.tails[i].pending = false;
@@ -981,7 +1025,7 @@ impl<'a> TileCtx<'a> {
             for x in rect.x0..rect.x1 {
                 let i = (y * self.tw + x) as usize;
                 let r = self.sc.rays[i];
-                if !r.live || self.out[i].is_some() || r.z1 < za || r.z0 > zb {
+                if !r.live || self.sc.resolved(i) || r.z1 < za || r.z0 > zb {
                     continue;
                 }
                 let z = za.max(r.z0);
@@ -1243,21 +1287,13 @@ impl<'a> TileCtx<'a> {
     /// refined and recorded at the end of the tile
     /// ([`TileCtx::flush_deferred`]).
     fn finish(&mut self, e: usize) {
-        const PENDING: Hit = Hit {
-            t: f64::NAN,
-            position: [f64::NAN; 3],
-            normal: [f64::NAN; 3],
-            color: None,
-        };
         let sc = &mut *self.sc;
         for b in sc.brackets.drain(..) {
-            self.out[b.ray] = Some(PENDING);
             sc.z0s[b.ray] = f64::INFINITY;
             sc.z1s[b.ray] = f64::NEG_INFINITY;
             sc.deferred.push((e as u32, b));
         }
         for d in sc.direct.drain(..) {
-            self.out[d.0] = Some(PENDING);
             sc.z0s[d.0] = f64::INFINITY;
             sc.z1s[d.0] = f64::NEG_INFINITY;
             sc.deferred_direct.push((e as u32, d));
@@ -1444,10 +1480,11 @@ impl<'a> TileCtx<'a> {
         if resolve {
             self.search_tails();
             let sc = &mut *self.sc;
-            let out = &*self.out;
-            sc.brackets.retain(|b| out[b.ray].is_none());
-            sc.direct.retain(|d| out[d.0].is_none());
-            sc.searches.retain(|s| out[s.0].is_none());
+            let z0s = &sc.z0s;
+            let open = |i: usize| z0s[i] != f64::INFINITY;
+            sc.brackets.retain(|b| open(b.ray));
+            sc.direct.retain(|d| open(d.0));
+            sc.searches.retain(|s| open(s.0));
         }
         self.run_searches(e);
         self.finish(e);
@@ -1469,12 +1506,14 @@ impl<'a> TileCtx<'a> {
         let mut active = std::mem::take(&mut self.sc.refine_active);
         let mut trials = std::mem::take(&mut self.sc.refine_trials);
         let sc = &mut *self.sc;
+        active.clear();
+        active.extend(0..sc.brackets.len());
         for _ in 0..REFINE {
-            active.clear();
-            active.extend((0..sc.brackets.len()).filter(|&j| {
+            // Only brackets still too wide (a narrowed one never widens).
+            active.retain(|&j| {
                 let b = &sc.brackets[j];
                 b.hi - b.lo > tol[j]
-            }));
+            });
             if active.is_empty() {
                 break;
             }
