@@ -3,7 +3,7 @@
 
 mod common;
 
-use frep_core::eval::batch::{binary_lane, unary_lane, BatchEval, LANES};
+use frep_core::eval::batch::{binary_lane, unary_lane, BatchEval, GradRegs, LANES};
 use frep_core::eval::grad::{Grad, GradEval};
 use frep_core::eval::Inputs;
 use frep_core::ops::{self, BinaryOp, BlendOp, EvalError, UnaryOp};
@@ -812,5 +812,163 @@ fn large_tapes_reuse_registers() {
         let tape = build(&ops_, false);
         let (pts, inp) = random_points(rng.next(), 200);
         check_all_outputs(&tape, &pts, &inp, reference);
+    }
+}
+
+// ------------------------------------------------- batched gradients
+
+/// [`BatchEval::eval_grad`] at the points: values bit for bit those of
+/// [`BatchEval::eval`]; derivatives those of [`GradEval`] (whose values come
+/// from `std`, within 2 ulp of the batch kernels) within `1e-9` relative,
+/// at all but `slack` of the points (a last-bit difference may flip a
+/// comparison, a pick or a select).
+fn check_grad(tape: &Tape, pts: &[[f64; 3]], inp: &Inputs, slack: f64) -> Result<(), String> {
+    let xs: Vec<f64> = pts.iter().map(|p| p[0]).collect();
+    let ys: Vec<f64> = pts.iter().map(|p| p[1]).collect();
+    let zs: Vec<f64> = pts.iter().map(|p| p[2]).collect();
+    let mut be = BatchEval::new(tape);
+    let mut vals = vec![0.0; pts.len()];
+    be.eval(&xs, &ys, &zs, inp, &mut vals);
+    let mut grads = vec![Grad::default(); pts.len()];
+    let mut regs = GradRegs::default();
+    be.eval_grad(&xs, &ys, &zs, inp, &mut regs, &mut grads);
+    // Again, with the registers of the first call (and their old values).
+    let mut again = vec![Grad::default(); pts.len()];
+    be.eval_grad(&xs, &ys, &zs, inp, &mut regs, &mut again);
+    for (a, b) in grads.iter().zip(&again) {
+        let s = |x: f64, y: f64| same(x, y);
+        assert!(s(a.v, b.v) && s(a.dx, b.dx) && s(a.dy, b.dy) && s(a.dz, b.dz));
+    }
+    let mut ge = GradEval::new(tape);
+    let mut bad = 0;
+    let mut first_bad = String::new();
+    for (i, p) in pts.iter().enumerate() {
+        let g = grads[i];
+        if !same(g.v, vals[i]) {
+            return Err(format!(
+                "value at {p:?}: {} vs eval {}\n{tape:?}",
+                g.v, vals[i]
+            ));
+        }
+        let w = ge.eval(p[0], p[1], p[2], inp);
+        let close =
+            |a: f64, b: f64| same(a, b) || (a - b).abs() <= 1e-9 * a.abs().max(b.abs()).max(1.0);
+        // Values are the batch kernels' (checked against them above; where
+        // they differ from `std`'s, e.g. `sin` of 1e188, other tests cover
+        // it); the derivatives of a NaN or infinite value mean nothing; and
+        // where GradEval's overflow (a huge argument squared in an
+        // R-function), the order of the chain rule's products decides
+        // between ±∞ and NaN.
+        let finite = [w.dx, w.dy, w.dz].iter().all(|d| d.is_finite());
+        let ok = !close(g.v, w.v)
+            || !w.v.is_finite()
+            || !finite
+            || close(g.v, w.v) && close(g.dx, w.dx) && close(g.dy, w.dy) && close(g.dz, w.dz);
+        if !ok {
+            if bad == 0 {
+                first_bad = format!("at {p:?}: batch {g:?}, GradEval {w:?}\n{tape:?}");
+            }
+            bad += 1;
+        }
+    }
+    if bad as f64 > slack * pts.len() as f64 {
+        return Err(format!(
+            "{bad} of {} points differ; first {first_bad}",
+            pts.len()
+        ));
+    }
+    Ok(())
+}
+
+#[test]
+fn batched_gradient_of_every_op() {
+    let mut rng = Rng(0x6a6a_5b5b_4c4c_3d3d);
+    for op in UnaryOp::ALL {
+        let mut g = Graph::new();
+        let x = g.x(0);
+        let y = g.x(1);
+        let s = g.binary(BinaryOp::Mul, x, y);
+        let r = g.unary(op, s);
+        let tape = g.tape(&[r]);
+        let pts: Vec<[f64; 3]> = (0..300)
+            .map(|_| [rng.sym(1.5), rng.sym(1.5), 0.0])
+            .collect();
+        check_grad(&tape, &pts, &Inputs::default(), 0.0).unwrap();
+    }
+    for op in BinaryOp::ALL {
+        let mut g = Graph::new();
+        let x = g.x(0);
+        let y = g.x(1);
+        let z = g.x(2);
+        let c = g.constant(0.7);
+        let r = g.binary(op, x, y);
+        let ru = g.binary(op, z, c);
+        let ur = g.binary(op, c, z);
+        let s = g.binary(BinaryOp::Add, r, ru);
+        let s = g.binary(BinaryOp::Add, s, ur);
+        let tape = g.tape(&[s]);
+        let pts: Vec<[f64; 3]> = (0..300)
+            .map(|_| [rng.sym(2.0), rng.sym(2.0), rng.sym(2.0)])
+            .collect();
+        check_grad(&tape, &pts, &Inputs::default(), 0.0).unwrap();
+    }
+    for (n, op) in [
+        (2, None),
+        (-3, None),
+        (0, None),
+        (1, Some(BlendOp::Union)),
+        (1, Some(BlendOp::Inter)),
+    ] {
+        let mut g = Graph::new();
+        let x = g.x(0);
+        let y = g.x(1);
+        let z = g.x(2);
+        let r = match op {
+            None => g.pow_int(x, n),
+            Some(op) => {
+                let a0 = g.constant(0.3);
+                let a1 = g.constant(0.8);
+                g.blend(op, [x, y, a0, a1, z])
+            }
+        };
+        let sel = g.select(z, r, y);
+        let tape = g.tape(&[sel]);
+        let pts: Vec<[f64; 3]> = (0..300)
+            .map(|_| [rng.sym(2.0), rng.sym(2.0), rng.sym(2.0)])
+            .collect();
+        check_grad(&tape, &pts, &Inputs::default(), 0.0).unwrap();
+    }
+    // sin and cos of one argument (one instruction computes both).
+    let mut g = Graph::new();
+    let x = g.x(0);
+    let y = g.x(1);
+    let a = g.binary(BinaryOp::Mul, x, y);
+    let s = g.unary(UnaryOp::Sin, a);
+    let c = g.unary(UnaryOp::Cos, a);
+    let r = g.binary(BinaryOp::Mul, s, c);
+    let tape = g.tape(&[r]);
+    let pts: Vec<[f64; 3]> = (0..300)
+        .map(|_| [rng.sym(9.0), rng.sym(9.0), 0.0])
+        .collect();
+    check_grad(&tape, &pts, &Inputs::default(), 0.0).unwrap();
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 200, failure_persistence: None, ..ProptestConfig::default() })]
+
+    #[test]
+    fn batched_gradients_of_smooth_tapes(ops_ in prop::collection::vec(op_strategy(), 1..25), seed in any::<u64>(), n in prop::sample::select(vec![1usize, 7, 129, 300])) {
+        let tape = build_smooth(&ops_);
+        let mut rng = Rng(seed | 1);
+        let inp = Inputs::with_params(&[rng.sym(2.0)]);
+        let pts: Vec<[f64; 3]> = (0..n).map(|_| [rng.sym(2.0), rng.sym(2.0), rng.sym(2.0)]).collect();
+        prop_assert!(check_grad(&tape, &pts, &inp, 0.05).is_ok(), "{}", check_grad(&tape, &pts, &inp, 0.05).unwrap_err());
+    }
+
+    #[test]
+    fn batched_gradients_of_any_tape(ops_ in prop::collection::vec(op_strategy(), 1..40), seed in any::<u64>(), n in prop::sample::select(vec![1usize, 7, 129, 300])) {
+        let tape = build(&ops_, true);
+        let (pts, inp) = random_points(seed, n);
+        prop_assert!(check_grad(&tape, &pts, &inp, 0.1).is_ok(), "{}", check_grad(&tape, &pts, &inp, 0.1).unwrap_err());
     }
 }

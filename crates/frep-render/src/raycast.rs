@@ -39,11 +39,14 @@
 //!    otherwise (a gap, a fall, an inside box with a gap, the end of the
 //!    tile) the segment is searched first, with the evaluator it was
 //!    sampled with, before anything behind it is used.
-//! 4. **Shading inputs.** Normals are `−∇f/|∇f|` by central differences at
-//!    half a pixel footprint, six points per hit, all hits of a tile and
-//!    tape in one batch on that shortened tape (right after refinement); where they vanish, forward-mode
-//!    differentiation ([`GradEval`]), then wider differences, and failing
-//!    those the direction back to the eye. Where the solid is cut by the
+//! 4. **Shading inputs.** Normals are `−∇f/|∇f|`, the gradient by
+//!    forward-mode automatic differentiation over the batch evaluator's
+//!    program ([`BatchEval::eval_grad`]), all hits of a tile and tape in one
+//!    batch on that shortened tape (right after refinement; the shortened
+//!    tape keeps the gradient at the surface); where the gradient vanishes
+//!    or is not finite (`(r² − |p|²)³` on its surface), central differences
+//!    at ½, 2 and 8 pixel footprints, and failing those the direction back
+//!    to the eye. Where the solid is cut by the
 //!    model box the normal is the box face's. Attribute colours come from
 //!    `s[1..3]` when the model declares `s[]`.
 //!
@@ -58,8 +61,8 @@ use std::collections::HashMap;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 
-use frep_core::eval::batch::{BatchEval, LANES};
-use frep_core::eval::grad::GradEval;
+use frep_core::eval::batch::{BatchEval, GradRegs, LANES};
+use frep_core::eval::grad::Grad;
 use frep_core::eval::interval::{Choice, Interval, IntervalEval};
 use frep_core::eval::Inputs;
 use frep_core::simplify::{simplify_with_stats, SimplifyMode};
@@ -230,7 +233,6 @@ struct Evals {
     shortens: bool,
     interval: IntervalEval,
     batch: Option<BatchEval>,
-    grad: Option<GradEval>,
 }
 
 impl Evals {
@@ -240,18 +242,12 @@ impl Evals {
             shortens: may_shorten(&tape),
             tape,
             batch: None,
-            grad: None,
         }
     }
 
     fn batch(&mut self) -> &mut BatchEval {
         let tape = &self.tape;
         self.batch.get_or_insert_with(|| BatchEval::new(tape))
-    }
-
-    fn grad(&mut self) -> &mut GradEval {
-        let tape = &self.tape;
-        self.grad.get_or_insert_with(|| GradEval::new(tape))
     }
 }
 
@@ -331,6 +327,11 @@ struct Scratch {
     zs: Vec<f64>,
     np: usize,
     vals: Vec<f64>,
+    /// Values and gradients at the first `np` points (see
+    /// [`Scratch::eval_grads`]).
+    grads: Vec<Grad>,
+    /// Working registers of [`BatchEval::eval_grad`] (for every tape).
+    grad_regs: GradRegs,
     /// Per ray of the current leaf: (tile ray index, lo depth, hi depth).
     leaf_rays: Vec<(usize, f64, f64)>,
     brackets: Vec<Bracket>,
@@ -395,6 +396,8 @@ impl Scratch {
             zs: Vec::new(),
             np: 0,
             vals: Vec::new(),
+            grads: Vec::new(),
+            grad_regs: GradRegs::default(),
             leaf_rays: Vec::new(),
             brackets: Vec::new(),
             direct: Vec::new(),
@@ -449,6 +452,27 @@ impl Scratch {
     /// yet) or dead.
     fn resolved(&self, i: usize) -> bool {
         self.z0s[i] == f64::INFINITY
+    }
+
+    /// Evaluates output 0 of evaluator `e` and its gradient at the
+    /// buffered points into `grads`.
+    fn eval_grads(&mut self, e: usize, inputs: &Inputs) {
+        let n = self.np;
+        if self.grads.len() < n {
+            self.grads.resize(n, Grad::default());
+        }
+        let ev = &mut self.evals[e];
+        if ev.batch.is_none() {
+            self.bytes += batch_bytes(ev.batch());
+        }
+        ev.batch().eval_grad(
+            &self.xs[..n],
+            &self.ys[..n],
+            &self.zs[..n],
+            inputs,
+            &mut self.grad_regs,
+            &mut self.grads[..n],
+        );
     }
 
     /// Takes ray `i` out of the depth ranges searched.
@@ -968,7 +992,7 @@ impl<'a> TileCtx<'a> {
     /// ends the search). `None`: all outside.
     fn narrow(&mut self, e: usize, k: &Corners, za: f64, zb: f64) -> Option<(f64, f64)> {
         let q = self.caster.narrow_px * self.footprint(za);
-        if !(q > 0.0) {
+        if q.is_nan() || q <= 0.0 {
             return Some((za, zb));
         }
         let m = (((zb - za) / q).round() as usize).min(16);
@@ -1062,39 +1086,33 @@ impl<'a> TileCtx<'a> {
         }
     }
 
-    /// Normals of the hits made since the last call: central differences
-    /// at half a pixel footprint, all hits in one batch (evaluator `e`);
-    /// where they vanish, [`TileCtx::normal`].
+    /// Normals of the hits made since the last call: the gradient by
+    /// forward-mode automatic differentiation ([`BatchEval::eval_grad`]),
+    /// all hits in one batch (evaluator `e`); where it vanishes or is not
+    /// finite, [`TileCtx::normal`].
     fn flush_normals(&mut self, e: usize) {
         let sc = &mut *self.sc;
         if sc.need_normal.is_empty() {
             return;
         }
         let need = std::mem::take(&mut sc.need_normal);
-        sc.set_points(6 * need.len());
+        sc.set_points(need.len());
         let mut o = 0;
         for &i in &need {
             let Some(h) = &self.out[i] else { continue };
-            let z = h.t * sc.rays[i].c;
-            let d = 0.5 * self.rm.pixel_footprint(z).max(1e-9 * (1.0 + z.abs()));
-            // p ± d along each axis in turn.
-            let [x, y, w] = h.position;
-            sc.xs[o..o + 6].copy_from_slice(&[x + d, x - d, x, x, x, x]);
-            sc.ys[o..o + 6].copy_from_slice(&[y, y, y + d, y - d, y, y]);
-            sc.zs[o..o + 6].copy_from_slice(&[w, w, w, w, w + d, w - d]);
-            o += 6;
+            [sc.xs[o], sc.ys[o], sc.zs[o]] = h.position;
+            o += 1;
         }
         sc.np = o;
-        self.stats.point_evals += sc.np as u64;
-        sc.eval_points(e, &self.caster.inputs);
-        let vals = std::mem::take(&mut self.sc.vals);
+        self.stats.grad_evals += o as u64;
+        sc.eval_grads(e, &self.caster.inputs);
+        let grads = std::mem::take(&mut self.sc.grads);
         let mut j = 0;
         for &i in &need {
             let Some(h) = &self.out[i] else { continue };
-            let v = &vals[j * 6..j * 6 + 6];
+            let g = grads[j];
             j += 1;
-            let n = [-(v[0] - v[1]), -(v[2] - v[3]), -(v[4] - v[5])];
-            let n = match unit(n) {
+            let n = match unit([-g.dx, -g.dy, -g.dz]) {
                 Some(n) => n,
                 None => {
                     let (p, t) = (h.position, h.t);
@@ -1106,7 +1124,7 @@ impl<'a> TileCtx<'a> {
                 h.normal = n;
             }
         }
-        self.sc.vals = vals;
+        self.sc.grads = grads;
         self.sc.need_normal = need;
         self.sc.need_normal.clear();
     }
@@ -1130,16 +1148,11 @@ impl<'a> TileCtx<'a> {
         (best.0 < 1e-6).then_some(best.1)
     }
 
+    /// The normal at `p` where the gradient vanishes or is not finite (a
+    /// field like `(r² − |p|²)³` on its surface, a kink): central
+    /// differences at half, 2 and 8 pixel footprints, the first that does
+    /// not vanish; failing those, the direction back along the ray.
     fn normal(&mut self, e: usize, r: &RayInfo, p: [f64; 3], z: f64) -> [f64; 3] {
-        self.stats.grad_evals += 1;
-        let g = self.sc.evals[e]
-            .grad()
-            .eval(p[0], p[1], p[2], &self.caster.inputs);
-        let n = [-g.dx, -g.dy, -g.dz];
-        if let Some(n) = unit(n) {
-            return n;
-        }
-        // Zero or non-finite gradient: central differences at the footprint.
         let h = self.footprint(z).max(1e-9 * (1.0 + z.abs()));
         for scale in [0.5, 2.0, 8.0] {
             let d = h * scale;

@@ -31,6 +31,10 @@
 //! lane: `|c| >= 1e-6`. A NaN condition is false (`|NaN| >= 1e-6` is false),
 //! so it picks the else branch, as the scalar evaluator does.
 
+mod grad;
+
+pub use grad::GradRegs;
+
 use super::simd_math as sm;
 use super::Inputs;
 use crate::graph::{Node, NodeId, Tape};
@@ -558,15 +562,11 @@ impl Alloc {
 /// Disjoint access to a destination register and `K` source registers
 /// (sources may repeat but never equal the destination).
 #[inline]
-fn split<const K: usize>(
-    regs: &mut [Block],
-    dst: u32,
-    srcs: [u32; K],
-) -> (&mut Block, [&Block; K]) {
+fn split<T, const K: usize>(regs: &mut [T], dst: u32, srcs: [u32; K]) -> (&mut T, [&T; K]) {
     let dst = dst as usize;
     let (lo, rest) = regs.split_at_mut(dst);
     let (d, hi) = rest.split_first_mut().expect("destination register exists");
-    let (lo, hi): (&[Block], &[Block]) = (lo, hi);
+    let (lo, hi): (&[T], &[T]) = (lo, hi);
     let s = srcs.map(|s| {
         let s = s as usize;
         if s < dst {
