@@ -55,9 +55,14 @@ impl GBlock {
 
 impl BatchEval {
     /// The value and gradient `(∂/∂x, ∂/∂y, ∂/∂z)` of output 0 at the
-    /// points `(xs[i], ys[i], zs[i])` into `out[i]` (see the
-    /// [module docs](self)): one pass of the register program with
-    /// derivatives carried along, instead of finite differences.
+    /// points `(xs[i], ys[i], zs[i])` into `out[i]`: one pass of the
+    /// register program with the derivatives carried along (forward-mode
+    /// automatic differentiation), instead of finite differences.
+    ///
+    /// Values are what [`BatchEval::eval`] gives, bit for bit; derivatives
+    /// follow [`GradEval`](crate::eval::grad::GradEval)'s conventions, its
+    /// products grouped as it groups them (uniform values have derivative
+    /// 0).
     ///
     /// `regs` are working registers, grown as needed and kept for the next
     /// call.
