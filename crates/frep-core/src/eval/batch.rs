@@ -16,6 +16,11 @@
 //!   O(live values × block), not O(tape × block).
 //! * **Guards** of [`Node::Check`] are ignored (the value is the checked
 //!   value), and nodes only guards need are not evaluated at all.
+//! * **`sin a` and `cos a`** of one argument are one instruction (one
+//!   argument reduction for both; the gyroid has three such pairs).
+//! * **Gradients**: [`BatchEval::eval_grad`] runs the same program carrying
+//!   the three partial derivatives along (forward-mode automatic
+//!   differentiation), for many points at once.
 //!
 //! ## Semantics
 //! Every operation computes what [`ops`] computes, except that runtime errors
