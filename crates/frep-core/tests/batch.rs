@@ -623,16 +623,21 @@ proptest! {
     }
 }
 
+/// The tape of `op(x·y)`.
+fn unary_of_product(op: UnaryOp) -> Tape {
+    let mut g = Graph::new();
+    let x = g.x(0);
+    let y = g.x(1);
+    let s = g.binary(BinaryOp::Mul, x, y);
+    let r = g.unary(op, s);
+    g.tape(&[r])
+}
+
 #[test]
 fn gradient_of_every_op_matches_finite_differences() {
     let mut rng = Rng(0xabcdef);
     for op in UnaryOp::ALL {
-        let mut g = Graph::new();
-        let x = g.x(0);
-        let y = g.x(1);
-        let s = g.binary(BinaryOp::Mul, x, y);
-        let r = g.unary(op, s);
-        let tape = g.tape(&[r]);
+        let tape = unary_of_product(op);
         for _ in 0..200 {
             fd_check(&tape, [rng.sym(1.5), rng.sym(1.5), 0.0], &Inputs::default());
         }
@@ -884,12 +889,7 @@ fn check_grad(tape: &Tape, pts: &[[f64; 3]], inp: &Inputs, slack: f64) -> Result
 fn batched_gradient_of_every_op() {
     let mut rng = Rng(0x6a6a_5b5b_4c4c_3d3d);
     for op in UnaryOp::ALL {
-        let mut g = Graph::new();
-        let x = g.x(0);
-        let y = g.x(1);
-        let s = g.binary(BinaryOp::Mul, x, y);
-        let r = g.unary(op, s);
-        let tape = g.tape(&[r]);
+        let tape = unary_of_product(op);
         let pts: Vec<[f64; 3]> = (0..300)
             .map(|_| [rng.sym(1.5), rng.sym(1.5), 0.0])
             .collect();

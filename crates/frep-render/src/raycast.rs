@@ -943,13 +943,7 @@ impl<'a> TileCtx<'a> {
         let Some(b) = clip_box(&k.aabb(za, zb), &self.caster.bounds) else {
             return;
         };
-        self.stats.interval_evals += 1;
-        let v = self.sc.evals[e].interval.eval(
-            iv(b.min[0], b.max[0]),
-            iv(b.min[1], b.max[1]),
-            iv(b.min[2], b.max[2]),
-            &self.caster.inputs,
-        );
+        let v = self.eval_box(e, &b);
         if v.is_outside() {
             return;
         }
@@ -984,6 +978,17 @@ impl<'a> TileCtx<'a> {
         }
     }
 
+    /// The field of evaluator `e` over box `b` (counted).
+    fn eval_box(&mut self, e: usize, b: &Aabb) -> Interval {
+        self.stats.interval_evals += 1;
+        self.sc.evals[e].interval.eval(
+            iv(b.min[0], b.max[0]),
+            iv(b.min[1], b.max[1]),
+            iv(b.min[2], b.max[2]),
+            &self.caster.inputs,
+        )
+    }
+
     /// The part of a leaf's slab `[za, zb]` that may hold the surface: the
     /// slab is cut into sub-slabs about [`ModelCaster::narrow_px`] pixel
     /// footprints deep, each evaluated over the leaf's frustum, and the
@@ -1006,13 +1011,7 @@ impl<'a> TileCtx<'a> {
             let Some(b) = clip_box(&k.aabb(at(j), at(j + 1)), &self.caster.bounds) else {
                 continue;
             };
-            self.stats.interval_evals += 1;
-            let v = self.sc.evals[e].interval.eval(
-                iv(b.min[0], b.max[0]),
-                iv(b.min[1], b.max[1]),
-                iv(b.min[2], b.max[2]),
-                &self.caster.inputs,
-            );
+            let v = self.eval_box(e, &b);
             if v.is_outside() {
                 continue;
             }

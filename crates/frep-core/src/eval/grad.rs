@@ -232,13 +232,12 @@ fn node_grad(node: &Node, vals: &[Grad], p: [f64; 3], inputs: &Inputs) -> Grad {
     }
 }
 
-fn unary(op: UnaryOp, a: Grad) -> Grad {
-    let x = a.v;
-    let v = res(ops::unary(op, x));
-    if v.is_nan() {
-        return Grad::NAN;
-    }
-    let k = match op {
+/// The derivative factor `dv/dx` of a unary operation at `x` with value
+/// `v`, `None` for a piecewise-constant one (derivative 0). The rules of
+/// [`GradEval`] and of the batch evaluator's gradients.
+#[inline(always)]
+pub(crate) fn unary_factor(op: UnaryOp, x: f64, v: f64) -> Option<f64> {
+    Some(match op {
         UnaryOp::Neg => -1.0,
         UnaryOp::Abs => {
             if x < 0.0 {
@@ -262,10 +261,47 @@ fn unary(op: UnaryOp, a: Grad) -> Grad {
         UnaryOp::Tanh => 1.0 - v * v,
         UnaryOp::Frac => 1.0,
         UnaryOp::Ceil | UnaryOp::Floor | UnaryOp::Trunc | UnaryOp::Not | UnaryOp::RoundHalfUp => {
-            return Grad::constant(v)
+            return None
         }
-    };
-    Grad::chain(v, k, a)
+    })
+}
+
+/// The factors `(∂v/∂b, ∂v/∂e)` of `b ^ e` (`pow` with `op` `Pow`, HyperFun's
+/// integer snap of the exponent) or `pow(b, e)` with value `v`; the second is
+/// 0 where `e` has no derivative (`de`), so a negative base with a constant
+/// exponent stays finite.
+#[inline(always)]
+pub(crate) fn pow_factors(op: BinaryOp, b: f64, e: f64, v: f64, de: bool) -> (f64, f64) {
+    let mut e = e;
+    if op == BinaryOp::Pow && e - e.floor() < ops::EPS {
+        let n = ops::round_half_up(e.abs());
+        e = if e < 0.0 { -n } else { n };
+    }
+    let kb = if e == 0.0 { 0.0 } else { e * b.powf(e - 1.0) };
+    let ke = if de { v * b.ln() } else { 0.0 };
+    (kb, ke)
+}
+
+/// `(sb, sh)` of an R-function written `a + sb·b + sh·√(a² + b²)`.
+#[inline(always)]
+pub(crate) fn r_signs(op: BinaryOp) -> (f64, f64) {
+    match op {
+        BinaryOp::RUnion => (1.0, 1.0),
+        BinaryOp::RInter => (1.0, -1.0),
+        _ => (-1.0, -1.0),
+    }
+}
+
+fn unary(op: UnaryOp, a: Grad) -> Grad {
+    let x = a.v;
+    let v = res(ops::unary(op, x));
+    if v.is_nan() {
+        return Grad::NAN;
+    }
+    match unary_factor(op, x, v) {
+        Some(k) => Grad::chain(v, k, a),
+        None => Grad::constant(v),
+    }
 }
 
 fn binary(op: BinaryOp, a: Grad, b: Grad) -> Grad {
@@ -279,17 +315,7 @@ fn binary(op: BinaryOp, a: Grad, b: Grad) -> Grad {
         BinaryOp::Mul => add(v, b.v, a, a.v, b),
         BinaryOp::Div | BinaryOp::DivF => add(v, 1.0 / b.v, a, -v / b.v, b),
         BinaryOp::Pow | BinaryOp::PowF => {
-            let mut e = b.v;
-            if op == BinaryOp::Pow && e - e.floor() < ops::EPS {
-                let n = ops::round_half_up(e.abs());
-                e = if e < 0.0 { -n } else { n };
-            }
-            let ka = if e == 0.0 { 0.0 } else { e * a.v.powf(e - 1.0) };
-            let kb = if b.has_derivative() {
-                v * a.v.ln()
-            } else {
-                0.0
-            };
+            let (ka, kb) = pow_factors(op, a.v, b.v, v, b.has_derivative());
             add(v, ka, a, kb, b)
         }
         BinaryOp::Min => (if a.v < b.v { a } else { b }).with_v(v),
@@ -304,11 +330,7 @@ fn binary(op: BinaryOp, a: Grad, b: Grad) -> Grad {
         }
         BinaryOp::RUnion | BinaryOp::RInter | BinaryOp::RDiff => {
             let h = hypot_term(a, b);
-            let (sb, sh) = match op {
-                BinaryOp::RUnion => (1.0, 1.0),
-                BinaryOp::RInter => (1.0, -1.0),
-                _ => (-1.0, -1.0),
-            };
+            let (sb, sh) = r_signs(op);
             let s = add(0.0, 1.0, a, sb, b);
             add(v, 1.0, s, sh, h)
         }

@@ -17,7 +17,7 @@
 use super::{
     binary_lane, pow_int_lane, select_lane, sm, split, unary_lane, BatchEval, Instr, Src, LANES,
 };
-use crate::eval::grad::Grad;
+use crate::eval::grad::{pow_factors, r_signs, unary_factor, Grad};
 use crate::eval::Inputs;
 use crate::ops::{self, BinaryOp, BlendOp, UnaryOp, EPS};
 
@@ -148,7 +148,7 @@ impl BatchEval {
 }
 
 /// How a lane's result derives from its operands' derivatives.
-#[derive(Clone, Copy, PartialEq)]
+#[derive(Clone, Copy)]
 enum Rule {
     /// `ka·a'` (one operand).
     Chain1,
@@ -249,16 +249,10 @@ fn gexec(ins: &Instr, g: &mut [Box<GBlock>], tmp: &mut [Box<GBlock>], uni: &[f64
         Instr::Select(dst, [c, t, e]) => {
             let (d, [c, t, e]) = split(g, dst, [c, t, e]);
             for j in 0..m {
-                let v = select_lane(c.v[j], t.v[j], e.v[j]);
-                let rule = if c.v[j].abs() >= EPS {
-                    Rule::PickA
-                } else {
-                    Rule::PickB
-                };
-                // As GradEval: the picked branch as it is (no NaN check).
-                let (t, e) = (&**t, &**e);
-                let src = if rule == Rule::PickA { t } else { e };
-                d.v[j] = v;
+                // As GradEval: the picked branch as it is (no NaN check),
+                // picked as `select_lane` picks.
+                let src = if c.v[j].abs() >= EPS { t } else { e };
+                d.v[j] = select_lane(c.v[j], t.v[j], e.v[j]);
                 for k in 0..3 {
                     d.d[k][j] = src.d[k][j];
                 }
@@ -340,37 +334,14 @@ fn gunary(op: UnaryOp, d: &mut GBlock, a: &GBlock, m: usize) {
     );
 }
 
-/// The derivative factor of a unary operation at `x` with value `v`.
+/// [`unary_factor`] as a rule (`sin` and `cos` never come here: see
+/// `gunary`).
 #[inline(always)]
 fn unary_rule(op: UnaryOp, x: f64, v: f64) -> (Rule, f64) {
-    let k = match op {
-        UnaryOp::Neg => -1.0,
-        UnaryOp::Abs => {
-            if x < 0.0 {
-                -1.0
-            } else {
-                1.0
-            }
-        }
-        UnaryOp::Sqrt | UnaryOp::SqrtF => 0.5 / v,
-        UnaryOp::Exp => v,
-        UnaryOp::Log => 1.0 / x,
-        UnaryOp::Logd => 1.0 / (x * std::f64::consts::LN_10),
-        // Done by `trig` (see `gunary`).
-        UnaryOp::Sin | UnaryOp::Cos => f64::NAN,
-        UnaryOp::Tan => 1.0 + v * v,
-        UnaryOp::Asin => 1.0 / (1.0 - x * x).sqrt(),
-        UnaryOp::Acos => -1.0 / (1.0 - x * x).sqrt(),
-        UnaryOp::Atan => 1.0 / (1.0 + x * x),
-        UnaryOp::Sinh => x.cosh(),
-        UnaryOp::Cosh => x.sinh(),
-        UnaryOp::Tanh => 1.0 - v * v,
-        UnaryOp::Frac => 1.0,
-        UnaryOp::Ceil | UnaryOp::Floor | UnaryOp::Trunc | UnaryOp::Not | UnaryOp::RoundHalfUp => {
-            return (Rule::Zero, 0.0)
-        }
-    };
-    (Rule::Chain1, k)
+    match unary_factor(op, x, v) {
+        Some(k) => (Rule::Chain1, k),
+        None => (Rule::Zero, 0.0),
+    }
 }
 
 fn gbinary(op: BinaryOp, d: &mut GBlock, a: &GBlock, b: &GBlock, m: usize) {
@@ -404,13 +375,7 @@ fn binary_rule(op: BinaryOp, a: f64, b: f64, v: f64, db: bool) -> (Rule, f64, f6
         BinaryOp::Mul => (Chain, b, a),
         BinaryOp::Div | BinaryOp::DivF => (Chain, 1.0 / b, -v / b),
         BinaryOp::Pow | BinaryOp::PowF => {
-            let mut e = b;
-            if op == BinaryOp::Pow && e - e.floor() < EPS {
-                let n = ops::round_half_up(e.abs());
-                e = if e < 0.0 { -n } else { n };
-            }
-            let ka = if e == 0.0 { 0.0 } else { e * a.powf(e - 1.0) };
-            let kb = if db { v * a.ln() } else { 0.0 };
+            let (ka, kb) = pow_factors(op, a, b, v, db);
             (Chain, ka, kb)
         }
         BinaryOp::Min => (if a < b { PickA } else { PickB }, 0.0, 0.0),
@@ -424,11 +389,7 @@ fn binary_rule(op: BinaryOp, a: f64, b: f64, v: f64, db: bool) -> (Rule, f64, f6
             }
         }
         BinaryOp::RUnion | BinaryOp::RInter | BinaryOp::RDiff => {
-            let (sb, sh) = match op {
-                BinaryOp::RUnion => (1.0, 1.0),
-                BinaryOp::RInter => (1.0, -1.0),
-                _ => (-1.0, -1.0),
-            };
+            let (sb, sh) = r_signs(op);
             let r = (a * a + b * b).sqrt();
             let (ha, hb) = if r == 0.0 { (0.0, 0.0) } else { (a / r, b / r) };
             (R(sb, sh), ha, hb)
