@@ -17,16 +17,21 @@
 //!    the part that may hold the surface by interval evaluations over
 //!    sub-slabs [`ModelCaster::narrow_px`] footprints deep (no node
 //!    bookkeeping per sub-slab: one leaf is sampled over the span from the
-//!    first to the last sub-slab that is not outside).
+//!    first to the last sub-slab that is not outside, or to one sampling
+//!    step into the first sub-slab inside throughout, where every ray has
+//!    crossed; not where a ray of the leaf enters the model box behind that
+//!    depth).
 //! 2. **Leaves.** Every unresolved ray of a leaf is sampled at steps of
 //!    [`ModelCaster::step_px`] pixel footprints across the slab, all rays of
 //!    the leaf in one batch ([`BatchEval`], vectorised across rays). The
 //!    first sign change (`f >= 0` inside, NaN outside) is bracketed; the
 //!    ray is then resolved (searched no further), and its bracket waits
 //!    for the end of the tile, where all brackets of one shortened tape are
-//!    refined together by false position with the Illinois rule to 1/16 of
-//!    a footprint, then one secant step (batches of up to a tile's rays,
-//!    not a leaf's).
+//!    refined together to 1/16 of a footprint, then one secant step
+//!    (batches of up to a tile's rays, not a leaf's): each step evaluates
+//!    a pair of depths just either side of the false-position point
+//!    (Illinois rule), which for a smooth field nearly always closes the
+//!    bracket at once.
 //! 3. **Thin features.** A ray whose samples show no crossing although the
 //!    leaf is ambiguous can only hide a feature thinner than a step around a
 //!    local maximum of its samples; that segment is checked with one
@@ -362,7 +367,7 @@ struct Scratch {
     resolve_first: Vec<(usize, Tail)>,
     /// [`TileCtx::refine`]'s brackets still too wide, and their trial depths.
     refine_active: Vec<usize>,
-    refine_trials: Vec<f64>,
+    refine_trials: Vec<(f64, f64, usize)>,
 }
 
 /// Sets `slot`'s buffer aside and lends it `spare`'s (empty) meanwhile.
@@ -973,7 +978,7 @@ impl<'a> TileCtx<'a> {
             let zm = 0.5 * (za + zb);
             self.node(e, rect, k, za, zm);
             self.node(e, rect, k, zm, zb);
-        } else if let Some((za, zb)) = self.narrow(e, k, za, zb) {
+        } else if let Some((za, zb)) = self.narrow(e, rect, k, za, zb) {
             self.leaf(e, rect, za, zb);
         }
     }
@@ -993,9 +998,19 @@ impl<'a> TileCtx<'a> {
     /// slab is cut into sub-slabs about [`ModelCaster::narrow_px`] pixel
     /// footprints deep, each evaluated over the leaf's frustum, and the
     /// outside ones in front of the first that is not and behind the last
-    /// are dropped (nothing can cross there; a sub-slab inside throughout
-    /// ends the search). `None`: all outside.
-    fn narrow(&mut self, e: usize, k: &Corners, za: f64, zb: f64) -> Option<(f64, f64)> {
+    /// are dropped (nothing can cross there). A sub-slab inside throughout
+    /// ends the search: the span ends one sampling step into it (the last
+    /// sample of every ray is inside), or at `zb` where a ray of `rect`
+    /// enters the model box behind that (its segment must be sampled).
+    /// `None`: all outside.
+    fn narrow(
+        &mut self,
+        e: usize,
+        rect: Rect,
+        k: &Corners,
+        za: f64,
+        zb: f64,
+    ) -> Option<(f64, f64)> {
         let q = self.caster.narrow_px * self.footprint(za);
         if q.is_nan() || q <= 0.0 {
             return Some((za, zb));
@@ -1006,7 +1021,7 @@ impl<'a> TileCtx<'a> {
         }
         let d = (zb - za) / m as f64;
         let at = |j: usize| if j == m { zb } else { za + d * j as f64 };
-        let (mut first, mut last) = (None, 0);
+        let (mut first, mut end) = (None, zb);
         for j in 0..m {
             let Some(b) = clip_box(&k.aabb(at(j), at(j + 1)), &self.caster.bounds) else {
                 continue;
@@ -1016,12 +1031,30 @@ impl<'a> TileCtx<'a> {
                 continue;
             }
             first.get_or_insert(j);
-            last = j;
+            end = at(j + 1);
             if v.is_positive() {
+                // Every ray through this sub-slab is inside one sampling
+                // step into it: nothing behind that is needed, unless a
+                // ray enters the model box only behind that depth.
+                let step = self.caster.step_px.max(1e-3) * self.footprint(za);
+                end = end.min(at(j) + step);
+                if self.enters_after(rect, end, zb) {
+                    end = zb;
+                }
                 break;
             }
         }
-        first.map(|f| (at(f), at(last + 1)))
+        first.map(|f| (at(f), end))
+    }
+
+    /// Whether an unresolved live ray of `rect` starts (enters the model
+    /// box) in `(z, zb]`.
+    fn enters_after(&self, rect: Rect, z: f64, zb: f64) -> bool {
+        (rect.y0..rect.y1).any(|y| {
+            let row = (y * self.tw) as usize;
+            let z0s = &self.sc.z0s[row + rect.x0 as usize..row + rect.x1 as usize];
+            z0s.iter().any(|&z0| z0 > z && z0 <= zb)
+        })
     }
 
     /// The box inside the solid throughout: rays still searching hit it
@@ -1503,9 +1536,14 @@ impl<'a> TileCtx<'a> {
         self.sc.leaf_rays = leaf_rays;
     }
 
-    /// Refines the buffered brackets at once (one batch per step) by false
-    /// position with the Illinois rule, kept off the ends, until each is at
-    /// most [`REFINE_PX`] pixel footprints wide (at most [`REFINE`] steps).
+    /// Refines the buffered brackets at once (one batch per step) until
+    /// each is at most [`REFINE_PX`] pixel footprints wide (at most
+    /// [`REFINE`] steps). Each step tries the false-position point `c` (the
+    /// Illinois rule, kept off the ends) as a pair `c ± tol·0.45`: where
+    /// the crossing lies between the two (a smooth field, after one step
+    /// nearly always) the bracket is done; otherwise the side that holds
+    /// the first crossing is kept. A bracket too narrow for a pair gets
+    /// `c` alone.
     fn refine(&mut self, e: usize) {
         if self.sc.brackets.is_empty() {
             return;
@@ -1529,29 +1567,50 @@ impl<'a> TileCtx<'a> {
             if active.is_empty() {
                 break;
             }
-            sc.set_points(active.len());
+            // Per active bracket its trial depths (a pair, or one depth
+            // twice: evaluated once, read twice).
             trials.clear();
-            for (o, &j) in active.iter().enumerate() {
+            let mut np = 0;
+            for &j in &active {
                 let b = &sc.brackets[j];
-                let m = b.trial();
-                trials.push(m);
-                let [x, y, z] = sc.rays[b.ray].at_depth(m);
-                (sc.xs[o], sc.ys[o], sc.zs[o]) = (x, y, z);
+                let c = b.trial();
+                let h = 0.45 * tol[j];
+                let (a, d) = if c - h > b.lo && c + h < b.hi {
+                    (c - h, c + h)
+                } else {
+                    (c, c)
+                };
+                trials.push((a, d, np));
+                np += if a == d { 1 } else { 2 };
             }
-            self.stats.point_evals += sc.np as u64;
+            sc.set_points(np);
+            for (&j, &(a, d, o)) in active.iter().zip(&trials) {
+                let r = &sc.rays[sc.brackets[j].ray];
+                [sc.xs[o], sc.ys[o], sc.zs[o]] = r.at_depth(a);
+                if a != d {
+                    [sc.xs[o + 1], sc.ys[o + 1], sc.zs[o + 1]] = r.at_depth(d);
+                }
+            }
+            self.stats.point_evals += np as u64;
             sc.eval_points(e, &self.caster.inputs);
-            for ((&j, &f), &m) in active.iter().zip(&sc.vals).zip(&trials) {
+            for (&j, &(a, d, o)) in active.iter().zip(&trials) {
                 let b = &mut sc.brackets[j];
-                if f >= 0.0 {
-                    b.hi = m;
-                    b.f_hi = f;
+                let fa = sc.vals[o];
+                let fd = if a == d { fa } else { sc.vals[o + 1] };
+                if fa >= 0.0 {
+                    // The first crossing is in front of the pair.
+                    b.hi = a;
+                    b.f_hi = fa;
                     if b.kept == -1 {
                         b.f_lo *= 0.5;
                     }
                     b.kept = -1;
+                } else if fd >= 0.0 {
+                    // Between the two: the bracket is the pair.
+                    (b.lo, b.f_lo, b.hi, b.f_hi, b.kept) = (a, fa, d, fd, 0);
                 } else {
-                    b.lo = m;
-                    b.f_lo = f;
+                    b.lo = d;
+                    b.f_lo = fd;
                     if b.kept == 1 {
                         b.f_hi *= 0.5;
                     }

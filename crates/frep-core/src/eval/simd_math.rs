@@ -266,6 +266,17 @@ pub fn cos(x: f64) -> f64 {
     }
 }
 
+/// `(sin x, cos x)`: exactly `(sin(x), cos(x))`, from one argument
+/// reduction.
+#[inline]
+pub fn sin_cos(x: f64) -> (f64, f64) {
+    if trig_in_range(x) {
+        sincos_core(x)
+    } else {
+        (x.sin(), x.cos())
+    }
+}
+
 #[inline(always)]
 fn sin_core(x: f64) -> f64 {
     sincos_core(x).0
@@ -658,6 +669,32 @@ mod tests {
             ));
         }
         eprintln!("sin: worst {ws} ulp, cos: worst {wc} ulp, tan: worst {wt} ulp");
+    }
+
+    #[test]
+    fn sin_cos_is_sin_and_cos() {
+        let mut rng = Rng(0x5eed_0f5c_05aa_1234);
+        for x in (0..20_000)
+            .map(|k| match k % 4 {
+                0 => rng.sym(10.0),
+                1 => rng.sym(2e6),
+                2 => rng.log(-1074.0, 30.0),
+                _ => rng.bits(),
+            })
+            .chain([
+                0.0,
+                -0.0,
+                TRIG_LIMIT,
+                -TRIG_LIMIT,
+                1e300,
+                f64::INFINITY,
+                f64::NAN,
+            ])
+        {
+            let (s, c) = sin_cos(x);
+            assert_eq!(s.to_bits(), sin(x).to_bits(), "sin {x:e}");
+            assert_eq!(c.to_bits(), cos(x).to_bits(), "cos {x:e}");
+        }
     }
 
     #[test]
