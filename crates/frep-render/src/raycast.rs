@@ -440,11 +440,7 @@ impl Scratch {
         if self.vals.len() < n {
             self.vals.resize(n, 0.0);
         }
-        let ev = &mut self.evals[e];
-        if ev.batch.is_none() {
-            self.bytes += batch_bytes(ev.batch());
-        }
-        ev.batch().eval(
+        counted_batch(&mut self.evals, &mut self.bytes, e).eval(
             &self.xs[..n],
             &self.ys[..n],
             &self.zs[..n],
@@ -466,11 +462,7 @@ impl Scratch {
         if self.grads.len() < n {
             self.grads.resize(n, Grad::default());
         }
-        let ev = &mut self.evals[e];
-        if ev.batch.is_none() {
-            self.bytes += batch_bytes(ev.batch());
-        }
-        ev.batch().eval_grad(
+        counted_batch(&mut self.evals, &mut self.bytes, e).eval_grad(
             &self.xs[..n],
             &self.ys[..n],
             &self.zs[..n],
@@ -513,6 +505,16 @@ impl Scratch {
         }
         self.np = n;
     }
+}
+
+/// Evaluator `e`'s batch evaluator, its bytes added to `bytes` when it is
+/// built here.
+fn counted_batch<'e>(evals: &'e mut [Evals], bytes: &mut usize, e: usize) -> &'e mut BatchEval {
+    let ev = &mut evals[e];
+    if ev.batch.is_none() {
+        *bytes += batch_bytes(ev.batch());
+    }
+    ev.batch()
 }
 
 /// The bytes of a batch evaluator's registers and instructions, roughly.

@@ -126,8 +126,13 @@ fn thin_slab_is_visible() {
     }
 }
 
-/// Brute-force reference: each ray sampled every 1/4 pixel footprint.
-fn reference_mask(model: &Model, cam: &Camera, b: &Aabb, w: u32, h: u32) -> Vec<bool> {
+/// One pixel's samples: (depths, values), `None` where its ray misses the
+/// box.
+type Samples = Option<(Vec<f64>, Vec<f64>)>;
+
+/// Brute force: each pixel's ray sampled across the box every `frac` of a
+/// pixel footprint (at its entry).
+fn ray_samples(model: &Model, cam: &Camera, b: &Aabb, w: u32, h: u32, frac: f64) -> Vec<Samples> {
     let mut ev = BatchEval::new(&model.tape());
     let inputs = Inputs::default();
     let mut out = Vec::new();
@@ -135,24 +140,35 @@ fn reference_mask(model: &Model, cam: &Camera, b: &Aabb, w: u32, h: u32) -> Vec<
         for x in 0..w {
             let r = cam.ray(x, y, w, h);
             let Some((t0, t1)) = r.clip(b) else {
-                out.push(false);
+                out.push(None);
                 continue;
             };
-            let step = 0.25 * cam.pixel_footprint(t0, w, h);
+            let step = frac * cam.pixel_footprint(t0, w, h);
             let n = ((t1 - t0) / step).ceil() as usize + 1;
+            let ts: Vec<f64> = (0..=n)
+                .map(|k| t0 + (t1 - t0) * k as f64 / n as f64)
+                .collect();
             let (mut xs, mut ys, mut zs) = (vec![], vec![], vec![]);
-            for k in 0..=n {
-                let p = r.at(t0 + (t1 - t0) * k as f64 / n as f64);
+            for &t in &ts {
+                let p = r.at(t);
                 xs.push(p[0]);
                 ys.push(p[1]);
                 zs.push(p[2]);
             }
             let mut v = vec![0.0; xs.len()];
             ev.eval(&xs, &ys, &zs, &inputs, &mut v);
-            out.push(v.iter().any(|&f| f >= 0.0));
+            out.push(Some((ts, v)));
         }
     }
     out
+}
+
+/// Brute-force reference: each ray sampled every 1/4 pixel footprint.
+fn reference_mask(model: &Model, cam: &Camera, b: &Aabb, w: u32, h: u32) -> Vec<bool> {
+    ray_samples(model, cam, b, w, h, 0.25)
+        .into_iter()
+        .map(|s| s.is_some_and(|(_, v)| v.iter().any(|&f| f >= 0.0)))
+        .collect()
 }
 
 /// M3 seen almost edge-on to its clipping sphere and along the gyroid's
@@ -404,38 +420,14 @@ fn reference_depths(
     w: u32,
     h: u32,
 ) -> Vec<Option<(f64, f64)>> {
-    let mut ev = BatchEval::new(&model.tape());
-    let inputs = Inputs::default();
-    let mut out = Vec::new();
-    for y in 0..h {
-        for x in 0..w {
-            let r = cam.ray(x, y, w, h);
-            let Some((t0, t1)) = r.clip(b) else {
-                out.push(None);
-                continue;
-            };
-            let step = 0.125 * cam.pixel_footprint(t0, w, h);
-            let n = ((t1 - t0) / step).ceil() as usize + 1;
-            let ts: Vec<f64> = (0..=n)
-                .map(|k| t0 + (t1 - t0) * k as f64 / n as f64)
-                .collect();
-            let (mut xs, mut ys, mut zs) = (vec![], vec![], vec![]);
-            for &t in &ts {
-                let p = r.at(t);
-                xs.push(p[0]);
-                ys.push(p[1]);
-                zs.push(p[2]);
-            }
-            let mut v = vec![0.0; xs.len()];
-            ev.eval(&xs, &ys, &zs, &inputs, &mut v);
-            out.push(
-                v.iter()
-                    .position(|&f| f >= 0.0)
-                    .map(|k| (ts[k.saturating_sub(1)], ts[k])),
-            );
-        }
-    }
-    out
+    ray_samples(model, cam, b, w, h, 0.125)
+        .into_iter()
+        .map(|s| {
+            let (ts, v) = s?;
+            let k = v.iter().position(|&f| f >= 0.0)?;
+            Some((ts[k.saturating_sub(1)], ts[k]))
+        })
+        .collect()
 }
 
 /// Solids cut open by the model box, seen obliquely (the box's entry depth
