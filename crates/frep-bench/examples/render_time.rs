@@ -5,7 +5,8 @@
 //! turntable of the model's own box). Prints the minimum time per example,
 //! and the caster's counters with `FREP_BENCH_STATS=1`. The caster's knobs
 //! and the tile size can be set for experiments: `FREP_STEP_PX`,
-//! `FREP_LEAF_DEPTH_PX`, `FREP_NARROW_PX`, `FREP_FALLBACK_DEPTH`, `FREP_TILE`.
+//! `FREP_LEAF_DEPTH_PX`, `FREP_NARROW_PX`, `FREP_PRUNE_AFTER`, `FREP_FALLBACK_DEPTH`,
+//! `FREP_TILE`.
 
 use frep_bench::alloc::{peak_during, Counting};
 use frep_bench::{example_box, example_sources, top_cube, top_view, Args};
@@ -60,6 +61,9 @@ fn main() {
             }
             if let Some(v) = knob("FREP_NARROW_PX") {
                 caster.narrow_px = v;
+            }
+            if let Some(v) = knob("FREP_PRUNE_AFTER") {
+                caster.prune_after = v as u32;
             }
             if let Some(v) = knob("FREP_FALLBACK_DEPTH") {
                 caster.fallback_depth = v as u32;

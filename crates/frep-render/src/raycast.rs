@@ -44,7 +44,16 @@
 //!    otherwise (a gap, a fall, an inside box with a gap, the end of the
 //!    tile) the segment is searched first, with the evaluator it was
 //!    sampled with, before anything behind it is used.
-//! 4. **Shading inputs.** Normals are `−∇f/|∇f|`, the gradient by
+//! 4. **Rays along walls.** A ray sampled in
+//!    [`ModelCaster::prune_after`] leaf slabs without a crossing (down the
+//!    bore of a tube seen along its axis, beside a wall parallel to it:
+//!    every frustum box there holds the wall) has the rest of its depth
+//!    range checked with one interval evaluation over that segment's box,
+//!    on the tape shortened for the tile; where it is outside, the ray is a
+//!    miss and is searched no further. The check is made where the slabs
+//!    left, weighed by the share of checks that succeeded so far, would
+//!    cost more to sample than the check (tape lengths as the measure).
+//! 5. **Shading inputs.** Normals are `−∇f/|∇f|`, the gradient by
 //!    forward-mode automatic differentiation over the batch evaluator's
 //!    program ([`BatchEval::eval_grad`]), all hits of a tile and tape in one
 //!    batch on that shortened tape (right after refinement; the shortened
@@ -77,6 +86,10 @@ use rayon::prelude::*;
 use crate::camera::{dot, Aabb, Camera, Projection, RayMaker};
 use crate::image::{Hit, HitBuffer, Image, Lighting, Shader};
 use crate::tiles::{cast_tiled, tiles, Tile, TileCaster};
+
+/// An interval evaluation costs about this many point evaluations (in a
+/// batch) of the same tape.
+const INTERVAL_COST: f64 = 4.0;
 
 /// Leaves of the tile subdivision are at most this many pixels wide.
 pub const LEAF: u32 = 8;
@@ -136,6 +149,12 @@ pub struct ModelCaster {
     /// interval evaluations over sub-slabs about this many pixel footprints
     /// deep (0: not narrowed).
     pub narrow_px: f64,
+    /// A ray sampled in this many leaf slabs without a crossing has the
+    /// rest of its depth range checked with one interval evaluation (of the
+    /// tape shortened for its tile), where that is likely to cost less than
+    /// sampling on, and is searched no further where that is outside; the
+    /// next check waits twice as many slabs (0: never checked).
+    pub prune_after: u32,
     stats: AtomicStats,
     /// Per-thread evaluators and buffers, reused from tile to tile.
     pool: Mutex<Vec<Scratch>>,
@@ -155,6 +174,7 @@ impl ModelCaster {
             fallback_depth: 3,
             leaf_depth_px: 16.0,
             narrow_px: 4.0,
+            prune_after: 3,
             stats: AtomicStats::default(),
             pool: Mutex::new(Vec::new()),
         }
@@ -172,6 +192,7 @@ impl ModelCaster {
             fallback_depth: 3,
             leaf_depth_px: 16.0,
             narrow_px: 4.0,
+            prune_after: 3,
             stats: AtomicStats::default(),
             pool: Mutex::new(Vec::new()),
         }
@@ -325,6 +346,15 @@ struct Scratch {
     /// Rays whose hit still needs its normal (see [`TileCtx::flush_normals`]).
     need_normal: Vec<usize>,
     tails: Vec<Tail>,
+    /// Per ray: leaf slabs sampled without a crossing since its last
+    /// check, and the checks made (see [`ModelCaster::prune_after`]).
+    misses: Vec<(u16, u8)>,
+    /// Rays due for that check: (ray, depth it starts at).
+    prune: Vec<(usize, f64)>,
+    /// Those checks made so far by this thread, and those that found the
+    /// rest of the ray outside (their success rate weighs the next ones).
+    prune_tried: u32,
+    prune_hit: u32,
     /// Points to evaluate: the first `np` of `xs`, `ys`, `zs` (the
     /// buffers only grow), and their values in the first `np` of `vals`.
     xs: Vec<f64>,
@@ -396,6 +426,10 @@ impl Scratch {
             z1s: Vec::new(),
             need_normal: Vec::new(),
             tails: Vec::new(),
+            misses: Vec::new(),
+            prune: Vec::new(),
+            prune_tried: 0,
+            prune_hit: 0,
             xs: Vec::new(),
             ys: Vec::new(),
             zs: Vec::new(),
@@ -690,6 +724,9 @@ struct TileCtx<'a> {
     out: &'a mut [Option<Hit>],
     sc: &'a mut Scratch,
     tw: u32,
+    /// The evaluator of the tape shortened for the whole tile's box (valid
+    /// for every ray of the tile over its whole depth range).
+    top: usize,
     stats: CastStats,
 }
 
@@ -756,6 +793,8 @@ impl<'a> TileCtx<'a> {
         });
         sc.tails.clear();
         sc.tails.resize(sc.rays.len(), Tail::default());
+        sc.misses.clear();
+        sc.misses.resize(sc.rays.len(), (0, 0));
         TileCtx {
             caster,
             rm,
@@ -763,6 +802,7 @@ impl<'a> TileCtx<'a> {
             out,
             sc,
             tw: tile.w(),
+            top: 0,
             stats: CastStats::default(),
         }
     }
@@ -785,7 +825,18 @@ impl<'a> TileCtx<'a> {
             y1: self.tile.h(),
         };
         let k = self.corners(rect);
-        self.node(0, rect, &k, zmin, zmax);
+        // The tape for the tile's box, kept for checks of whole rays.
+        let Some(b) = clip_box(&k.aabb(zmin, zmax), &self.caster.bounds) else {
+            return;
+        };
+        let v = self.eval_box(0, &b);
+        if v.is_outside() {
+            return;
+        }
+        if !v.is_positive() {
+            self.top = self.shorten(0);
+        }
+        self.node(self.top, rect, &k, zmin, zmax);
         // Rays whose last samples rose to the end of their last slab.
         for i in 0..self.sc.rays.len() {
             if self.sc.tails[i].pending && !self.sc.resolved(i) {
@@ -1442,6 +1493,15 @@ impl<'a> TileCtx<'a> {
         self.stats.point_evals += total as u64;
         sc.eval_points(e, &self.caster.inputs);
         let vals = std::mem::take(&mut sc.vals);
+        let prune_after = self.caster.prune_after;
+        // Relative costs of sampling a ray over one more leaf slab and of
+        // one interval evaluation of the whole tape, by tape lengths.
+        let slab = self.caster.leaf_depth_px * self.footprint(za).max(1e-300);
+        let sample_cost = (n + 1) as f64 * self.sc.evals[e].tape.len() as f64;
+        let check_cost = INTERVAL_COST * self.sc.evals[self.top].tape.len() as f64;
+        // Weighed by the chance that a check succeeds, so far.
+        let odds = (self.sc.prune_hit as f64 + 1.0) / (self.sc.prune_tried as f64 + 2.0);
+        let sample_cost = sample_cost * odds;
         let mut resolve_first = std::mem::take(&mut self.sc.resolve_first);
         for (j, &(i, lo, hi)) in leaf_rays.iter().enumerate() {
             let v = &vals[j * (n + 1)..(j + 1) * (n + 1)];
@@ -1515,6 +1575,21 @@ impl<'a> TileCtx<'a> {
                     if pending {
                         sc.tails[i].pending = true;
                     }
+                    if prune_after > 0 {
+                        let m = &mut sc.misses[i];
+                        m.0 = m.0.saturating_add(1);
+                        if u32::from(m.0) >= prune_after.saturating_mul(1 << m.1.min(12)) {
+                            *m = (0, m.1.saturating_add(1));
+                            // From the pending segment on, if any.
+                            let from = if pending { z(n.saturating_sub(1)) } else { hi };
+                            // Worth it where the slabs left could cost more
+                            // samples than the check.
+                            let slabs = (sc.rays[i].z1 - from) / slab;
+                            if slabs * sample_cost > check_cost {
+                                sc.prune.push((i, from));
+                            }
+                        }
+                    }
                 }
             }
         }
@@ -1535,7 +1610,38 @@ impl<'a> TileCtx<'a> {
         }
         self.run_searches(e);
         self.finish(e);
+        self.prune_rays();
         self.sc.leaf_rays = leaf_rays;
+    }
+
+    /// Checks the rays due (see [`ModelCaster::prune_after`]): one interval
+    /// evaluation of the tile's tape over the rest of each ray's depth range
+    /// (the box of that segment); a ray that is outside there is searched
+    /// no further (a miss), its pending segment included.
+    fn prune_rays(&mut self) {
+        let mut prune = std::mem::take(&mut self.sc.prune);
+        for &(i, from) in &prune {
+            let r = self.sc.rays[i];
+            if self.sc.resolved(i) || from >= r.z1 {
+                continue;
+            }
+            let (pa, pb) = (r.at_depth(from), r.at_depth(r.z1));
+            let b = Aabb {
+                min: std::array::from_fn(|k| pa[k].min(pb[k])),
+                max: std::array::from_fn(|k| pa[k].max(pb[k])),
+            };
+            let Some(b) = clip_box(&b, &self.caster.bounds) else {
+                continue;
+            };
+            self.sc.prune_tried = self.sc.prune_tried.saturating_add(1);
+            if self.eval_box(self.top, &b).is_outside() {
+                self.sc.prune_hit = self.sc.prune_hit.saturating_add(1);
+                self.sc.resolve(i);
+                self.sc.tails[i].pending = false;
+            }
+        }
+        prune.clear();
+        self.sc.prune = prune;
     }
 
     /// Refines the buffered brackets at once (one batch per step) until
