@@ -347,7 +347,8 @@ struct Scratch {
     need_normal: Vec<usize>,
     tails: Vec<Tail>,
     /// Per ray: leaf slabs sampled without a crossing since its last
-    /// check, and the checks made (see [`ModelCaster::prune_after`]).
+    /// check fell due, and the checks that fell due (see
+    /// [`ModelCaster::prune_after`]).
     misses: Vec<(u16, u8)>,
     /// Rays due for that check: (ray, depth it starts at).
     prune: Vec<(usize, f64)>,
@@ -1495,7 +1496,7 @@ impl<'a> TileCtx<'a> {
         let vals = std::mem::take(&mut sc.vals);
         let prune_after = self.caster.prune_after;
         // Relative costs of sampling a ray over one more leaf slab and of
-        // one interval evaluation of the whole tape, by tape lengths.
+        // one interval evaluation of the tile's tape, by tape lengths.
         let slab = self.caster.leaf_depth_px * self.footprint(za).max(1e-300);
         let sample_cost = (n + 1) as f64 * self.sc.evals[e].tape.len() as f64;
         let check_cost = INTERVAL_COST * self.sc.evals[self.top].tape.len() as f64;

@@ -2,8 +2,9 @@
 //! (`FREP_BLESS=1` rewrites them), thin slabs, a grazing view of the gyroid
 //! against a dense fixed-step reference, scaled fields, a field with zero
 //! gradient on its surface, cancellation, attribute colours, a pruning
-//! regression bound, and solids cut open by the model box hit at their
-//! first crossing (depths against a dense reference).
+//! regression bound, solids cut open by the model box hit at their first
+//! crossing (depths against a dense reference), and rays down a tube's bore
+//! dropped after one interval check, with the same hits.
 
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
