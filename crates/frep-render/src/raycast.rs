@@ -599,6 +599,16 @@ impl RayInfo {
             self.origin[2] + self.dz[2] * z,
         ]
     }
+
+    /// The axis-aligned box of the ray's segment between depths `a` and
+    /// `b`.
+    fn segment_box(&self, a: f64, b: f64) -> Aabb {
+        let (pa, pb) = (self.at_depth(a), self.at_depth(b));
+        Aabb {
+            min: std::array::from_fn(|k| pa[k].min(pb[k])),
+            max: std::array::from_fn(|k| pa[k].max(pb[k])),
+        }
+    }
 }
 
 /// The corner rays of a pixel rectangle's frustum (through its outer pixel
@@ -726,8 +736,9 @@ struct TileCtx<'a> {
     sc: &'a mut Scratch,
     tw: u32,
     /// The evaluator of the tape shortened for the whole tile's box (valid
-    /// for every ray of the tile over its whole depth range).
-    top: usize,
+    /// for every ray of the tile over its whole depth range), once the root
+    /// node has shortened it.
+    top: Option<usize>,
     stats: CastStats,
 }
 
@@ -803,7 +814,7 @@ impl<'a> TileCtx<'a> {
             out,
             sc,
             tw: tile.w(),
-            top: 0,
+            top: None,
             stats: CastStats::default(),
         }
     }
@@ -826,18 +837,7 @@ impl<'a> TileCtx<'a> {
             y1: self.tile.h(),
         };
         let k = self.corners(rect);
-        // The tape for the tile's box, kept for checks of whole rays.
-        let Some(b) = clip_box(&k.aabb(zmin, zmax), &self.caster.bounds) else {
-            return;
-        };
-        let v = self.eval_box(0, &b);
-        if v.is_outside() {
-            return;
-        }
-        if !v.is_positive() {
-            self.top = self.shorten(0);
-        }
-        self.node(self.top, rect, &k, zmin, zmax);
+        self.node(0, rect, &k, zmin, zmax);
         // Rays whose last samples rose to the end of their last slab.
         for i in 0..self.sc.rays.len() {
             if self.sc.tails[i].pending && !self.sc.resolved(i) {
@@ -1010,8 +1010,10 @@ impl<'a> TileCtx<'a> {
             self.fill(e, rect, za, zb);
             return;
         }
-        // Shorten the tape for this box when that helps.
+        // Shorten the tape for this box when that helps (the first box
+        // shortened is the tile's: kept for checks of whole rays).
         let e = self.shorten(e);
+        self.top.get_or_insert(e);
         let s = rect.size();
         let cell = s as f64 * self.footprint(za).max(1e-300);
         if zb - za > 2.0 * cell {
@@ -1282,18 +1284,8 @@ impl<'a> TileCtx<'a> {
         // maxima of smooth fields are far from the surface.
         let mut searches = std::mem::take(&mut self.sc.searches);
         searches.retain(|&(i, a, b, _, _)| {
-            let r = &self.sc.rays[i];
-            let (pa, pb) = (r.at_depth(a), r.at_depth(b));
-            self.stats.interval_evals += 1;
-            !self.sc.evals[e]
-                .interval
-                .eval(
-                    iv(pa[0].min(pb[0]), pa[0].max(pb[0])),
-                    iv(pa[1].min(pb[1]), pa[1].max(pb[1])),
-                    iv(pa[2].min(pb[2]), pa[2].max(pb[2])),
-                    &self.caster.inputs,
-                )
-                .is_outside()
+            let seg = self.sc.rays[i].segment_box(a, b);
+            !self.eval_box(e, &seg).is_outside()
         });
         self.sc.searches = searches;
         let sc = &mut *self.sc;
@@ -1499,7 +1491,7 @@ impl<'a> TileCtx<'a> {
         // one interval evaluation of the tile's tape, by tape lengths.
         let slab = self.caster.leaf_depth_px * self.footprint(za).max(1e-300);
         let sample_cost = (n + 1) as f64 * self.sc.evals[e].tape.len() as f64;
-        let check_cost = INTERVAL_COST * self.sc.evals[self.top].tape.len() as f64;
+        let check_cost = INTERVAL_COST * self.sc.evals[self.top.unwrap_or(0)].tape.len() as f64;
         // Weighed by the chance that a check succeeds, so far.
         let odds = (self.sc.prune_hit as f64 + 1.0) / (self.sc.prune_tried as f64 + 2.0);
         let sample_cost = sample_cost * odds;
@@ -1626,16 +1618,11 @@ impl<'a> TileCtx<'a> {
             if self.sc.resolved(i) || from >= r.z1 {
                 continue;
             }
-            let (pa, pb) = (r.at_depth(from), r.at_depth(r.z1));
-            let b = Aabb {
-                min: std::array::from_fn(|k| pa[k].min(pb[k])),
-                max: std::array::from_fn(|k| pa[k].max(pb[k])),
-            };
-            let Some(b) = clip_box(&b, &self.caster.bounds) else {
+            let Some(b) = clip_box(&r.segment_box(from, r.z1), &self.caster.bounds) else {
                 continue;
             };
             self.sc.prune_tried = self.sc.prune_tried.saturating_add(1);
-            if self.eval_box(self.top, &b).is_outside() {
+            if self.eval_box(self.top.unwrap_or(0), &b).is_outside() {
                 self.sc.prune_hit = self.sc.prune_hit.saturating_add(1);
                 self.sc.resolve(i);
                 self.sc.tails[i].pending = false;

@@ -182,13 +182,10 @@ fn gyroid_grazing_matches_dense_reference() {
     let (w, h) = (64, 64);
     for (yaw, pitch, fov) in [(0.0, 0.0, None), (45.0, 1.0, Some(40.0)), (0.0, 89.0, None)] {
         let s = RenderSettings {
-            size: (w, h),
-            bounds: b,
             yaw,
             pitch,
             fov,
-            tile_size: 16,
-            ..Default::default()
+            ..settings(b, w, h)
         };
         let hits = render_hits(&model, &s, None).unwrap();
         let reference = reference_mask(&model, &s.camera(), &b, w, h);
@@ -452,13 +449,11 @@ fn box_cut_solids_hit_at_their_first_crossing() {
         ] {
             let (w, h) = (96, 96);
             let s = RenderSettings {
-                size: (w, h),
-                bounds: b,
                 yaw,
                 pitch,
                 fov,
                 tile_size: 32,
-                ..Default::default()
+                ..settings(b, w, h)
             };
             let hits = render_hits(&model, &s, None).unwrap();
             let cam = s.camera();
