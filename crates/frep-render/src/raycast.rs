@@ -3,6 +3,10 @@
 //! HyperFun fields are not distance fields, so the caster never steps by the
 //! field value. Per tile of the image:
 //!
+//! 0. **Empty tiles.** The tile's whole frustum over the model box's depth
+//!    range is evaluated once with interval arithmetic; where that box is
+//!    outside, none of the tile's rays is set up (where the model covers
+//!    part of the image, that was most of the cost of the misses).
 //! 1. **Frustum pruning.** The tile's rays are clipped to the model box; the
 //!    part of the tile frustum between two depths is enclosed in an
 //!    axis-aligned box ([`Frustum::aabb_between_depths`](crate::camera::Frustum::aabb_between_depths)) and the field is
@@ -83,7 +87,7 @@ use frep_core::simplify::{simplify_with_stats, SimplifyMode};
 use frep_core::{Model, Tape};
 use rayon::prelude::*;
 
-use crate::camera::{dot, Aabb, Camera, Projection, RayMaker};
+use crate::camera::{dot, sub, Aabb, Camera, Projection, RayMaker};
 use crate::image::{Hit, HitBuffer, Image, Lighting, Shader};
 use crate::tiles::{cast_tiled, tiles, Tile, TileCaster};
 
@@ -118,6 +122,9 @@ pub struct CastStats {
     /// Shortened tapes built (each distinct one once per worker thread:
     /// evaluators are cached from tile to tile).
     pub simplified: u64,
+    /// Tiles found outside by one interval evaluation before any of their
+    /// rays was set up (see the module docs).
+    pub empty_tiles: u64,
 }
 
 #[derive(Default)]
@@ -126,6 +133,7 @@ struct AtomicStats {
     point_evals: AtomicU64,
     grad_evals: AtomicU64,
     simplified: AtomicU64,
+    empty_tiles: AtomicU64,
 }
 
 /// A [`TileCaster`] for a compiled model (see the module docs).
@@ -217,7 +225,50 @@ impl ModelCaster {
             point_evals: self.stats.point_evals.load(Ordering::Relaxed),
             grad_evals: self.stats.grad_evals.load(Ordering::Relaxed),
             simplified: self.stats.simplified.load(Ordering::Relaxed),
+            empty_tiles: self.stats.empty_tiles.load(Ordering::Relaxed),
         }
+    }
+
+    /// Whether the tile's whole frustum within the model box's depth range
+    /// is outside (one interval evaluation of the root tape): then none of
+    /// its rays is set up. The box holds every box the tile's root node
+    /// would evaluate, so nothing that node would find is skipped.
+    fn tile_outside(&self, camera: &Camera, tile: &Tile, sc: &mut Scratch) -> bool {
+        let b = &self.bounds;
+        // Depth is the distance along the viewing direction from the eye
+        // (orthographic rays start on the eye's plane): the box's corners
+        // bound it.
+        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+        for j in 0..8 {
+            let p = std::array::from_fn(|a| {
+                if (j >> a) & 1 == 0 {
+                    b.min[a]
+                } else {
+                    b.max[a]
+                }
+            });
+            let z = dot(sub(p, camera.eye), camera.forward);
+            lo = lo.min(z);
+            hi = hi.max(z);
+        }
+        let lo = lo.max(0.0);
+        if lo > hi || hi.is_nan() {
+            return true;
+        }
+        let rm = camera.rays(tile.width, tile.height);
+        let k = Corners::of(&rm, tile.x0, tile.y0, tile.x1, tile.y1);
+        let Some(bx) = clip_box(&k.aabb(lo, hi), b) else {
+            return true;
+        };
+        sc.evals[0]
+            .interval
+            .eval(
+                iv(bx.min[0], bx.max[0]),
+                iv(bx.min[1], bx.max[1]),
+                iv(bx.min[2], bx.max[2]),
+                &self.inputs,
+            )
+            .is_outside()
     }
 
     fn cancelled(&self) -> bool {
@@ -235,9 +286,17 @@ impl TileCaster for ModelCaster {
         let scratch = self.pool.lock().ok().and_then(|mut p| p.pop());
         let mut scratch = scratch.unwrap_or_else(|| Scratch::new(&self.tape));
         scratch.trim();
-        let mut ctx = TileCtx::new(self, camera, tile, out, &mut scratch);
-        ctx.run();
-        let stats = ctx.stats;
+        let stats = if self.tile_outside(camera, tile, &mut scratch) {
+            CastStats {
+                interval_evals: 1,
+                empty_tiles: 1,
+                ..CastStats::default()
+            }
+        } else {
+            let mut ctx = TileCtx::new(self, camera, tile, out, &mut scratch);
+            ctx.run();
+            ctx.stats
+        };
         if let Ok(mut p) = self.pool.lock() {
             p.push(scratch);
         }
@@ -248,6 +307,8 @@ impl TileCaster for ModelCaster {
             .fetch_add(stats.point_evals, Ordering::Relaxed);
         s.grad_evals.fetch_add(stats.grad_evals, Ordering::Relaxed);
         s.simplified.fetch_add(stats.simplified, Ordering::Relaxed);
+        s.empty_tiles
+            .fetch_add(stats.empty_tiles, Ordering::Relaxed);
     }
 }
 
@@ -621,6 +682,22 @@ struct Corners {
 }
 
 impl Corners {
+    /// The corner rays of the frustum of the image pixels
+    /// `[x0, x1) × [y0, y1)`.
+    fn of(rm: &RayMaker, x0: u32, y0: u32, x1: u32, y1: u32) -> Corners {
+        let fr = rm.frustum(x0, y0, x1, y1);
+        let mut k = Corners {
+            origin: [[0.0; 3]; 4],
+            dz: [[0.0; 3]; 4],
+        };
+        for (j, r) in fr.corners.iter().enumerate() {
+            let c = dot(r.dir, fr.forward).max(1e-12);
+            k.origin[j] = r.origin;
+            k.dz[j] = [r.dir[0] / c, r.dir[1] / c, r.dir[2] / c];
+        }
+        k
+    }
+
     /// The axis-aligned box of the frustum between depths `z0` and `z1`
     /// (what [`Frustum::aabb_between_depths`](crate::camera::Frustum::aabb_between_depths) gives).
     fn aabb(&self, z0: f64, z1: f64) -> Aabb {
@@ -974,22 +1051,14 @@ impl<'a> TileCtx<'a> {
 
     /// The corner rays of `rect`'s frustum, for [`Corners::aabb`].
     fn corners(&self, rect: Rect) -> Corners {
-        let fr = self.rm.frustum(
-            self.tile.x0 + rect.x0,
-            self.tile.y0 + rect.y0,
-            self.tile.x0 + rect.x1,
-            self.tile.y0 + rect.y1,
-        );
-        let mut k = Corners {
-            origin: [[0.0; 3]; 4],
-            dz: [[0.0; 3]; 4],
-        };
-        for (j, r) in fr.corners.iter().enumerate() {
-            let c = dot(r.dir, fr.forward).max(1e-12);
-            k.origin[j] = r.origin;
-            k.dz[j] = [r.dir[0] / c, r.dir[1] / c, r.dir[2] / c];
-        }
-        k
+        let (x0, y0) = (self.tile.x0, self.tile.y0);
+        Corners::of(
+            &self.rm,
+            x0 + rect.x0,
+            y0 + rect.y0,
+            x0 + rect.x1,
+            y0 + rect.y1,
+        )
     }
 
     fn node(&mut self, e: usize, rect: Rect, k: &Corners, za: f64, zb: f64) {

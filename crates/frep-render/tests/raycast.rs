@@ -4,7 +4,8 @@
 //! gradient on its surface, cancellation, attribute colours, a pruning
 //! regression bound, solids cut open by the model box hit at their first
 //! crossing (depths against a dense reference), and rays down a tube's bore
-//! dropped after one interval check, with the same hits.
+//! dropped after one interval check, with the same hits; tiles around a small
+//! model found empty whole, before their rays are set up.
 
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
@@ -520,5 +521,38 @@ fn rays_down_a_tube_bore_are_pruned() {
                 "{full_st:?} → {pruned_st:?}"
             );
         }
+    }
+}
+
+/// A small sphere in the middle of a top view: the tiles around it are found
+/// empty by one interval evaluation each (their rays never set up), and the
+/// pixels are those of the dense reference.
+#[test]
+fn empty_tiles_are_skipped_whole() {
+    let src = "my_model(x[3], a[1]) { my_model = 0.3 - sqrt(x[1]^2 + x[2]^2 + x[3]^2); }";
+    let model = Model::compile(src).unwrap();
+    let b = Aabb::new([-1.0; 3], [1.0; 3]);
+    let (w, h) = (128, 128);
+    for fov in [None, Some(40.0)] {
+        let s = RenderSettings {
+            pitch: 90.0,
+            fov,
+            ..settings(b, w, h)
+        };
+        let caster = ModelCaster::new(&model, Inputs::default(), b);
+        let cam = s.camera();
+        let hits = frep_render::cast_tiled(&caster, &cam, w, h, s.tile_size);
+        let st = caster.stats();
+        // 64 tiles of 16²; the sphere's disk (about 11 pixels in radius:
+        // the view frames the box's bounding sphere) meets at most 16.
+        assert!(st.empty_tiles >= 48, "{fov:?}: {st:?}");
+        let reference = reference_mask(&model, &cam, &b, w, h);
+        let got = mask(&hits);
+        let diff = got.iter().zip(&reference).filter(|(a, b)| a != b).count();
+        assert!(hits.hit_count() > 200, "{fov:?}: {} hits", hits.hit_count());
+        assert!(
+            diff <= 2,
+            "{fov:?}: {diff} pixels differ from the reference"
+        );
     }
 }
