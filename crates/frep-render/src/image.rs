@@ -308,7 +308,7 @@ fn srgb_byte(c: f32) -> u8 {
 #[derive(Debug)]
 struct SrgbTable {
     t: [f32; 255],
-    idx: Vec<u8>,
+    idx: Box<[u8; SRGB_CELLS + 1]>,
 }
 
 fn srgb_table() -> &'static SrgbTable {
@@ -329,12 +329,10 @@ fn srgb_table() -> &'static SrgbTable {
             }
             f32::from_bits(lo)
         });
-        let idx: Vec<u8> = (0..=SRGB_CELLS)
-            .map(|q| {
-                let x = q as f32 / SRGB_CELLS as f32;
-                t.partition_point(|&v| v <= x) as u8
-            })
-            .collect();
+        let idx: Box<[u8; SRGB_CELLS + 1]> = Box::new(std::array::from_fn(|q| {
+            let x = q as f32 / SRGB_CELLS as f32;
+            t.partition_point(|&v| v <= x) as u8
+        }));
         // The steepest part of the curve climbs about 3300 bytes per unit,
         // fewer than the cells: no cell holds two thresholds.
         assert!(
@@ -346,23 +344,19 @@ fn srgb_table() -> &'static SrgbTable {
 }
 
 impl SrgbTable {
-    /// [`srgb_byte`].
+    /// [`srgb_byte`], without a branch (so that loops over pixels keep
+    /// several lookups in flight): `c` is clamped to `[0, 1]` first, which
+    /// changes no byte (every threshold is positive, and the last is at
+    /// most 1); NaN stays NaN, indexes cell 0 (the float-to-integer cast
+    /// gives 0) and compares false: byte 0, as `to_byte` gives.
     #[inline]
     fn byte(&self, c: f32) -> u8 {
-        let tab = self;
-        if c.is_nan() {
-            return to_byte(linear_to_srgb(c));
-        }
-        if c < 0.0 {
-            return tab.t.partition_point(|&x| x <= c) as u8;
-        }
-        if c >= 1.0 {
-            return 255;
-        }
+        let q = c.clamp(0.0, 1.0);
         // At most one threshold lies inside a cell (checked when the table
         // is built): the byte is the cell's count, plus one past it.
-        let b = tab.idx[(c * SRGB_CELLS as f32) as usize] as usize;
-        (b + usize::from(b < 255 && tab.t[b.min(254)] <= c)) as u8
+        let cell = ((q * SRGB_CELLS as f32) as usize).min(SRGB_CELLS);
+        let b = self.idx[cell] as usize;
+        (b + usize::from(b < 255 && self.t[b.min(254)] <= q)) as u8
     }
 }
 
@@ -614,18 +608,25 @@ impl Shader {
                 lin[j] = albedo[k][j] * (amb + diffuse * (0.35 + 0.65 * ao)) + spec[j] * kc * ao;
             }
         }
+        // The bytes of every lane first (no branch per pixel), then the
+        // pixels that hit.
+        let mut bytes = [[0u8; SPAN]; 3];
+        for (b, lin) in bytes.iter_mut().zip(&lin) {
+            if lighting.srgb {
+                for j in 0..SPAN {
+                    b[j] = self.srgb.byte(lin[j]);
+                }
+            } else {
+                for j in 0..SPAN {
+                    b[j] = to_byte(lin[j].clamp(0.0, 1.0));
+                }
+            }
+        }
         for (j, (h, px)) in hits.iter().zip(rgba.chunks_exact_mut(4)).enumerate() {
             if h.is_none() {
                 px[..3].copy_from_slice(&bg);
-                continue;
-            }
-            for k in 0..3 {
-                let c = lin[k][j];
-                px[k] = if lighting.srgb {
-                    self.srgb.byte(c)
-                } else {
-                    to_byte(c.clamp(0.0, 1.0))
-                };
+            } else {
+                px[..3].copy_from_slice(&[bytes[0][j], bytes[1][j], bytes[2][j]]);
             }
         }
     }

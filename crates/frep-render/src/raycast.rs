@@ -21,10 +21,9 @@
 //!    the part that may hold the surface by interval evaluations over
 //!    sub-slabs [`ModelCaster::narrow_px`] footprints deep (no node
 //!    bookkeeping per sub-slab: one leaf is sampled over the span from the
-//!    first to the last sub-slab that is not outside, or to one sampling
-//!    step into the first sub-slab inside throughout, where every ray has
-//!    crossed; not where a ray of the leaf enters the model box behind that
-//!    depth).
+//!    first to the last sub-slab that is not outside, or to the start of
+//!    the first sub-slab inside throughout, where every ray is inside; not
+//!    where a ray of the leaf enters the model box behind that depth).
 //! 2. **Leaves.** Every unresolved ray of a leaf is sampled at steps of
 //!    [`ModelCaster::step_px`] pixel footprints across the slab, all rays of
 //!    the leaf in one batch ([`BatchEval`], vectorised across rays). The
@@ -1124,9 +1123,10 @@ impl<'a> TileCtx<'a> {
     /// footprints deep, each evaluated over the leaf's frustum, and the
     /// outside ones in front of the first that is not and behind the last
     /// are dropped (nothing can cross there). A sub-slab inside throughout
-    /// ends the search: the span ends one sampling step into it (the last
-    /// sample of every ray is inside), or at `zb` where a ray of `rect`
-    /// enters the model box behind that (its segment must be sampled).
+    /// ends the search: the span ends where it starts (the last sample of
+    /// every ray is inside: the sub-slab's box holds its near face), or at
+    /// `zb` where a ray of `rect` enters the model box behind that (its
+    /// segment must be sampled).
     /// `None`: all outside.
     fn narrow(
         &mut self,
@@ -1158,11 +1158,10 @@ impl<'a> TileCtx<'a> {
             first.get_or_insert(j);
             end = at(j + 1);
             if v.is_positive() {
-                // Every ray through this sub-slab is inside one sampling
-                // step into it: nothing behind that is needed, unless a
-                // ray enters the model box only behind that depth.
-                let step = self.caster.step_px.max(1e-3) * self.footprint(za);
-                end = end.min(at(j) + step);
+                // Every ray through this sub-slab is inside where it
+                // enters it: nothing behind that is needed, unless a ray
+                // enters the model box only behind that depth.
+                end = at(j);
                 if self.enters_after(rect, end, zb) {
                     end = zb;
                 }
