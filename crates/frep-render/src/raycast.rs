@@ -285,9 +285,9 @@ impl TileCaster for ModelCaster {
         let scratch = self.pool.lock().ok().and_then(|mut p| p.pop());
         let mut scratch = scratch.unwrap_or_else(|| Scratch::new(&self.tape));
         scratch.trim();
-        let stats = if self.tile_outside(camera, tile, &mut scratch) {
+        let empty = self.tile_outside(camera, tile, &mut scratch);
+        let mut stats = if empty {
             CastStats {
-                interval_evals: 1,
                 empty_tiles: 1,
                 ..CastStats::default()
             }
@@ -296,6 +296,8 @@ impl TileCaster for ModelCaster {
             ctx.run();
             ctx.stats
         };
+        // The tile's own check.
+        stats.interval_evals += 1;
         if let Ok(mut p) = self.pool.lock() {
             p.push(scratch);
         }
