@@ -913,7 +913,10 @@ fn batched_gradient_of_every_op() {
         check_grad(&tape, &pts, &Inputs::default(), 0.0).unwrap();
     }
     for (n, op) in [
+        (1, None),
         (2, None),
+        (3, None),
+        (5, None),
         (-3, None),
         (0, None),
         (1, Some(BlendOp::Union)),

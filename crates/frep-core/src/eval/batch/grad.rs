@@ -15,7 +15,7 @@
 //! have derivative 0.
 
 use super::{
-    binary_lane, pow_int_lane, select_lane, sm, split, unary_lane, BatchEval, Instr, Src, LANES,
+    binary_lane, pow_int_kernel, select_lane, sm, split, unary_lane, BatchEval, Instr, Src, LANES,
 };
 use crate::eval::grad::{pow_factors, r_signs, unary_factor, Grad};
 use crate::eval::Inputs;
@@ -235,15 +235,31 @@ fn gexec(ins: &Instr, g: &mut [Box<GBlock>], tmp: &mut [Box<GBlock>], uni: &[f64
         }
         Instr::PowI(dst, a, n) => {
             let (d, [a]) = split(g, dst, [a]);
-            for j in 0..m {
-                let x = a.v[j];
-                let v = pow_int_lane(x, n);
-                let k = if n == 0 {
-                    0.0
-                } else {
-                    f64::from(n) * x.powi(n - 1)
-                };
-                put(d, j, v, Rule::Chain1, (k, a), (0.0, a));
+            // The values as the point batch computes them; the derivative
+            // `n·x^(n−1)`, in closed form (and so vectorised) for the small
+            // exponents (`x.powi(1) == x`, `x.powi(2) == x·x` exactly).
+            pow_int_kernel(&mut d.v[..m], &a.v[..m], n);
+            let mut k = [0.0; LANES];
+            let x = &a.v[..m];
+            match n {
+                0 => {}
+                1 => k[..m].fill(1.0),
+                2 => k[..m].iter_mut().zip(x).for_each(|(k, &x)| *k = 2.0 * x),
+                3 => k[..m]
+                    .iter_mut()
+                    .zip(x)
+                    .for_each(|(k, &x)| *k = 3.0 * (x * x)),
+                _ => k[..m]
+                    .iter_mut()
+                    .zip(x)
+                    .for_each(|(k, &x)| *k = f64::from(n) * x.powi(n - 1)),
+            }
+            for (dc, ac) in d.d.iter_mut().zip(&a.d) {
+                for (((o, &k), &da), &v) in
+                    dc[..m].iter_mut().zip(&k[..m]).zip(&ac[..m]).zip(&d.v[..m])
+                {
+                    *o = if v.is_nan() { f64::NAN } else { k * da };
+                }
             }
         }
         Instr::Select(dst, [c, t, e]) => {
