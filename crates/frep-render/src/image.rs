@@ -459,7 +459,7 @@ impl Shader {
     }
 
     /// The background colour of row `y` (the vertical gradient).
-    fn background(&self, y: u32) -> [u8; 3] {
+    pub(crate) fn background(&self, y: u32) -> [u8; 3] {
         let lighting = &self.lighting;
         let h = self.height;
         let s = if h > 1 {

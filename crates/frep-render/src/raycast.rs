@@ -1722,20 +1722,21 @@ impl<'a> TileCtx<'a> {
         let mut active = std::mem::take(&mut self.sc.refine_active);
         let mut trials = std::mem::take(&mut self.sc.refine_trials);
         let sc = &mut *self.sc;
+        // Only brackets still too wide (a narrowed one never widens).
         active.clear();
-        active.extend(0..sc.brackets.len());
+        active.extend((0..sc.brackets.len()).filter(|&j| {
+            let b = &sc.brackets[j];
+            b.hi - b.lo > tol[j]
+        }));
         for _ in 0..REFINE {
-            // Only brackets still too wide (a narrowed one never widens).
-            active.retain(|&j| {
-                let b = &sc.brackets[j];
-                b.hi - b.lo > tol[j]
-            });
             if active.is_empty() {
                 break;
             }
             // Per active bracket its trial depths (a pair, or one depth
-            // twice: evaluated once, read twice).
+            // twice: evaluated once, read twice), written straight into
+            // the point buffers.
             trials.clear();
+            sc.set_points(2 * active.len());
             let mut np = 0;
             for &j in &active {
                 let b = &sc.brackets[j];
@@ -1746,20 +1747,24 @@ impl<'a> TileCtx<'a> {
                 } else {
                     (c, c)
                 };
+                let r = &sc.rays[b.ray];
+                [sc.xs[np], sc.ys[np], sc.zs[np]] = r.at_depth(a);
                 trials.push((a, d, np));
-                np += if a == d { 1 } else { 2 };
-            }
-            sc.set_points(np);
-            for (&j, &(a, d, o)) in active.iter().zip(&trials) {
-                let r = &sc.rays[sc.brackets[j].ray];
-                [sc.xs[o], sc.ys[o], sc.zs[o]] = r.at_depth(a);
-                if a != d {
-                    [sc.xs[o + 1], sc.ys[o + 1], sc.zs[o + 1]] = r.at_depth(d);
+                if a == d {
+                    np += 1;
+                } else {
+                    [sc.xs[np + 1], sc.ys[np + 1], sc.zs[np + 1]] = r.at_depth(d);
+                    np += 2;
                 }
             }
+            sc.np = np;
             self.stats.point_evals += np as u64;
             sc.eval_points(e, &self.caster.inputs);
-            for (&j, &(a, d, o)) in active.iter().zip(&trials) {
+            // Each bracket narrowed; those still too wide stay active.
+            let mut kept = 0;
+            for t in 0..active.len() {
+                let j = active[t];
+                let (a, d, o) = trials[t];
                 let b = &mut sc.brackets[j];
                 let fa = sc.vals[o];
                 let fd = if a == d { fa } else { sc.vals[o + 1] };
@@ -1782,7 +1787,12 @@ impl<'a> TileCtx<'a> {
                     }
                     b.kept = 1;
                 }
+                if b.hi - b.lo > tol[j] {
+                    active[kept] = j;
+                    kept += 1;
+                }
             }
+            active.truncate(kept);
         }
         self.sc.fracs = tol;
         self.sc.refine_active = active;
@@ -2019,19 +2029,26 @@ pub fn render_with(
     check_size(w, h)?;
     let shader = Shader::new(camera, &settings.lighting, w, h);
     let ts = tiles(w, h, settings.tile_size.max(1));
-    let shaded: Vec<(Tile, Vec<u8>)> = ts
+    // Per tile its shaded pixels, or `None` where no ray hit (the rows
+    // are then the background: nothing to shade). The hit buffer is kept
+    // per worker, from tile to tile.
+    let shaded: Vec<(Tile, Option<Vec<u8>>)> = ts
         .into_par_iter()
         .map_init(
-            || None::<BatchEval>,
-            |ao_eval, t| {
+            || (None::<BatchEval>, Vec::<Option<Hit>>::new()),
+            |(ao_eval, hits), t| {
                 let n = (t.w() * t.h()) as usize;
-                let mut hits = vec![None; n];
-                caster.cast_tile(camera, &t, &mut hits);
+                hits.clear();
+                hits.resize(n, None);
+                caster.cast_tile(camera, &t, hits);
+                if hits.iter().all(Option::is_none) {
+                    return (t, None);
+                }
                 let mut ao = Vec::new();
                 if settings.ao {
                     ao.resize(n, 1.0);
                     let ev = ao_eval.get_or_insert_with(|| BatchEval::new(&caster.tape));
-                    ambient_occlusion(ev, caster, &hits, &mut ao);
+                    ambient_occlusion(ev, caster, hits, &mut ao);
                 }
                 let mut rgba = vec![255u8; n * 4];
                 let tw = t.w() as usize;
@@ -2045,7 +2062,7 @@ pub fn render_with(
                         &mut rgba[row.start * 4..row.end * 4],
                     );
                 }
-                (t, rgba)
+                (t, Some(rgba))
             },
         )
         .collect();
@@ -2061,7 +2078,16 @@ pub fn render_with(
         let tw = t.w() as usize * 4;
         for row in 0..t.h() as usize {
             let d = ((t.y0 as usize + row) * w as usize + t.x0 as usize) * 4;
-            img.rgba[d..d + tw].copy_from_slice(&rgba[row * tw..(row + 1) * tw]);
+            let dst = &mut img.rgba[d..d + tw];
+            match &rgba {
+                Some(rgba) => dst.copy_from_slice(&rgba[row * tw..(row + 1) * tw]),
+                None => {
+                    let bg = shader.background(t.y0 + row as u32);
+                    for px in dst.chunks_exact_mut(4) {
+                        px.copy_from_slice(&[bg[0], bg[1], bg[2], 255]);
+                    }
+                }
+            }
         }
     }
     Ok(img)

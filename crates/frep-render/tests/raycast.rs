@@ -14,7 +14,7 @@ use frep_core::eval::batch::BatchEval;
 use frep_core::eval::Inputs;
 use frep_core::Model;
 use frep_render::{
-    ascii_mask, render, render_hits, Aabb, Camera, HitBuffer, ModelCaster, RenderError,
+    ascii_mask, render, render_hits, shade, Aabb, Camera, HitBuffer, ModelCaster, RenderError,
     RenderSettings,
 };
 
@@ -527,6 +527,34 @@ fn rays_down_a_tube_bore_are_pruned() {
 /// A small sphere in the middle of a top view: the tiles around it are found
 /// empty by one interval evaluation each (their rays never set up), and the
 /// pixels are those of the dense reference.
+/// `render` shades tile by tile and fills the tiles where no ray hit with
+/// the background without shading them: the same image as shading the
+/// whole hit buffer, partial edge tiles and ambient occlusion included.
+#[test]
+fn tiled_render_equals_shaded_hits() {
+    let src = "my_model(x[3], a[1]) { my_model = 0.5 - sqrt((x[1] - 0.2)^2 + x[2]^2 + x[3]^2); }";
+    let model = Model::compile(src).unwrap();
+    let b = Aabb::new([-1.0; 3], [1.0; 3]);
+    for (fov, ao) in [(None, false), (Some(40.0), false), (Some(40.0), true)] {
+        let s = RenderSettings {
+            pitch: 60.0,
+            fov,
+            ao,
+            ..settings(b, 100, 90)
+        };
+        let img = render(&model, &s, None).unwrap();
+        let hits = render_hits(&model, &s, None).unwrap();
+        assert!(hits.hit_count() > 300, "{fov:?}: {} hits", hits.hit_count());
+        let whole = shade(&hits, &s.lighting);
+        assert_eq!(img.rgba, whole.rgba, "{fov:?}, ao {ao}");
+        // The corners are background (tiles without a hit), rows of the
+        // gradient, opaque.
+        assert_ne!(img.pixel(0, 0), img.pixel(0, 89));
+        assert_eq!(img.pixel(0, 0), img.pixel(99, 0));
+        assert_eq!(img.pixel(0, 0)[3], 255);
+    }
+}
+
 #[test]
 fn empty_tiles_are_skipped_whole() {
     let src = "my_model(x[3], a[1]) { my_model = 0.3 - sqrt(x[1]^2 + x[2]^2 + x[3]^2); }";
