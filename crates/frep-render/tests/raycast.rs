@@ -524,9 +524,6 @@ fn rays_down_a_tube_bore_are_pruned() {
     }
 }
 
-/// A small sphere in the middle of a top view: the tiles around it are found
-/// empty by one interval evaluation each (their rays never set up), and the
-/// pixels are those of the dense reference.
 /// `render` shades tile by tile and fills the tiles where no ray hit with
 /// the background without shading them: the same image as shading the
 /// whole hit buffer, partial edge tiles and ambient occlusion included.
@@ -555,6 +552,9 @@ fn tiled_render_equals_shaded_hits() {
     }
 }
 
+/// A small sphere in the middle of a top view: the tiles around it are found
+/// empty by one interval evaluation each (their rays never set up), and the
+/// pixels are those of the dense reference.
 #[test]
 fn empty_tiles_are_skipped_whole() {
     let src = "my_model(x[3], a[1]) { my_model = 0.3 - sqrt(x[1]^2 + x[2]^2 + x[3]^2); }";
