@@ -232,7 +232,7 @@ impl ModelCaster {
     /// is outside (one interval evaluation of the root tape): then none of
     /// its rays is set up. The box holds every box the tile's root node
     /// would evaluate, so nothing that node would find is skipped.
-    fn tile_outside(&self, camera: &Camera, tile: &Tile, sc: &mut Scratch) -> bool {
+    fn tile_outside(&self, camera: &Camera, rm: &RayMaker, tile: &Tile, sc: &mut Scratch) -> bool {
         let b = &self.bounds;
         // Depth is the distance along the viewing direction from the eye
         // (orthographic rays start on the eye's plane): the box's corners
@@ -254,8 +254,7 @@ impl ModelCaster {
         if lo > hi || hi.is_nan() {
             return true;
         }
-        let rm = camera.rays(tile.width, tile.height);
-        let k = Corners::of(&rm, tile.x0, tile.y0, tile.x1, tile.y1);
+        let k = Corners::of(rm, tile.x0, tile.y0, tile.x1, tile.y1);
         let Some(bx) = clip_box(&k.aabb(lo, hi), b) else {
             return true;
         };
@@ -285,14 +284,16 @@ impl TileCaster for ModelCaster {
         let scratch = self.pool.lock().ok().and_then(|mut p| p.pop());
         let mut scratch = scratch.unwrap_or_else(|| Scratch::new(&self.tape));
         scratch.trim();
-        let empty = self.tile_outside(camera, tile, &mut scratch);
+        // The rays of this image size, for the check and the tile's rays.
+        let rm = camera.rays(tile.width, tile.height);
+        let empty = self.tile_outside(camera, &rm, tile, &mut scratch);
         let mut stats = if empty {
             CastStats {
                 empty_tiles: 1,
                 ..CastStats::default()
             }
         } else {
-            let mut ctx = TileCtx::new(self, camera, tile, out, &mut scratch);
+            let mut ctx = TileCtx::new(self, camera, rm, tile, out, &mut scratch);
             ctx.run();
             ctx.stats
         };
@@ -841,11 +842,11 @@ impl<'a> TileCtx<'a> {
     fn new(
         caster: &'a ModelCaster,
         cam: &'a Camera,
+        rm: RayMaker,
         tile: &'a Tile,
         out: &'a mut [Option<Hit>],
         sc: &'a mut Scratch,
     ) -> TileCtx<'a> {
-        let rm = cam.rays(tile.width, tile.height);
         let n = (tile.w() * tile.h()) as usize;
         sc.rays.resize(n, RayInfo::default());
         sc.z0s.resize(n, 0.0);
