@@ -696,6 +696,23 @@ fn unary_kernel(op: UnaryOp, d: &mut [f64], a: &[f64]) {
 
 fn pow_int_kernel(d: &mut [f64], a: &[f64], n: i32) {
     let m = n.unsigned_abs();
+    // The common squares and cubes in one pass: the same products, in the
+    // same order, and the same zero test as the general path below.
+    match n {
+        2 => {
+            for (o, &x) in d.iter_mut().zip(a) {
+                *o = sel(x.abs() < EPS, 0.0, x * x);
+            }
+            return;
+        }
+        3 => {
+            for (o, &x) in d.iter_mut().zip(a) {
+                *o = sel(x.abs() < EPS, 0.0, x * x * x);
+            }
+            return;
+        }
+        _ => {}
+    }
     if m == 0 {
         d.fill(1.0);
     } else if f64::from(m) <= ops::POW_LOOP_MAX {
