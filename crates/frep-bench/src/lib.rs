@@ -64,13 +64,21 @@ pub fn grid_boxes(n: usize) -> Vec<[[f32; 2]; 3]> {
 /// The workspace's `examples/` folder.
 pub const EXAMPLES_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples");
 
-/// The example models (file name, source) whose file names contain `filter`, sorted by name.
+/// The example models (file name, source) whose file names contain `filter`
+/// (or, where `filter` starts with `=`, whose name is the rest, with or
+/// without `.hf`), sorted by name.
 pub fn example_sources(filter: &str) -> Vec<(String, String)> {
     let mut files: Vec<String> = std::fs::read_dir(EXAMPLES_DIR)
         .expect("the workspace's examples folder")
         .filter_map(|e| e.ok())
         .map(|e| e.file_name().to_string_lossy().into_owned())
-        .filter(|n| n.ends_with(".hf") && n.contains(filter))
+        .filter(|n| {
+            n.ends_with(".hf")
+                && match filter.strip_prefix('=') {
+                    Some(exact) => n == exact || n.strip_suffix(".hf") == Some(exact),
+                    None => n.contains(filter),
+                }
+        })
         .collect();
     files.sort();
     files
