@@ -278,8 +278,16 @@ impl ModelCaster {
 
 impl TileCaster for ModelCaster {
     fn cast_tile(&self, camera: &Camera, tile: &Tile, out: &mut [Option<Hit>]) {
+        self.cast_tile_hits(camera, tile, out);
+    }
+}
+
+impl ModelCaster {
+    /// [`TileCaster::cast_tile`], telling whether any ray hit (`out` is
+    /// not written where none did).
+    fn cast_tile_hits(&self, camera: &Camera, tile: &Tile, out: &mut [Option<Hit>]) -> bool {
         if self.cancelled() {
-            return;
+            return false;
         }
         let scratch = self.pool.lock().ok().and_then(|mut p| p.pop());
         let mut scratch = scratch.unwrap_or_else(|| Scratch::new(&self.tape));
@@ -287,15 +295,16 @@ impl TileCaster for ModelCaster {
         // The rays of this image size, for the check and the tile's rays.
         let rm = camera.rays(tile.width, tile.height);
         let empty = self.tile_outside(camera, &rm, tile, &mut scratch);
-        let mut stats = if empty {
-            CastStats {
+        let (mut stats, any_hit) = if empty {
+            let stats = CastStats {
                 empty_tiles: 1,
                 ..CastStats::default()
-            }
+            };
+            (stats, false)
         } else {
             let mut ctx = TileCtx::new(self, camera, rm, tile, out, &mut scratch);
             ctx.run();
-            ctx.stats
+            (ctx.stats, ctx.any_hit)
         };
         // The tile's own check.
         stats.interval_evals += 1;
@@ -311,6 +320,7 @@ impl TileCaster for ModelCaster {
         s.simplified.fetch_add(stats.simplified, Ordering::Relaxed);
         s.empty_tiles
             .fetch_add(stats.empty_tiles, Ordering::Relaxed);
+        any_hit
     }
 }
 
@@ -406,6 +416,9 @@ struct Scratch {
     /// unresolved, else `[+∞, −∞]`.
     z0s: Vec<f64>,
     z1s: Vec<f64>,
+    /// Bumped whenever rays are taken out of the depth ranges (see
+    /// [`TileCtx::node`]'s `held`).
+    epoch: u64,
     /// Rays whose hit still needs its normal (see [`TileCtx::flush_normals`]).
     need_normal: Vec<usize>,
     tails: Vec<Tail>,
@@ -488,6 +501,7 @@ impl Scratch {
             rays: Vec::new(),
             z0s: Vec::new(),
             z1s: Vec::new(),
+            epoch: 0,
             need_normal: Vec::new(),
             tails: Vec::new(),
             misses: Vec::new(),
@@ -574,6 +588,7 @@ impl Scratch {
     fn resolve(&mut self, i: usize) {
         self.z0s[i] = f64::INFINITY;
         self.z1s[i] = f64::NEG_INFINITY;
+        self.epoch += 1;
     }
 
     fn clear_points(&mut self) {
@@ -818,6 +833,12 @@ struct TileCtx<'a> {
     /// for every ray of the tile over its whole depth range), once the root
     /// node has shortened it.
     top: Option<usize>,
+    /// The depth range every live ray of the tile shares, where they all
+    /// share one (an orthographic view whose rays enter and leave the
+    /// model box through faces square to them).
+    uniform: Option<(f64, f64)>,
+    /// Whether a hit was recorded.
+    any_hit: bool,
     stats: CastStats,
 }
 
@@ -882,6 +903,10 @@ impl<'a> TileCtx<'a> {
             };
             k += 1;
         });
+        let mut live = sc.rays.iter().filter(|r| r.live);
+        let uniform = live.next().map(|r| (r.z0, r.z1)).filter(|&(z0, z1)| {
+            live.all(|r| r.z0.to_bits() == z0.to_bits() && r.z1.to_bits() == z1.to_bits())
+        });
         sc.tails.clear();
         sc.tails.resize(sc.rays.len(), Tail::default());
         sc.misses.clear();
@@ -894,6 +919,8 @@ impl<'a> TileCtx<'a> {
             sc,
             tw: tile.w(),
             top: None,
+            uniform,
+            any_hit: false,
             stats: CastStats::default(),
         }
     }
@@ -916,7 +943,7 @@ impl<'a> TileCtx<'a> {
             y1: self.tile.h(),
         };
         let k = self.corners(rect);
-        self.node(0, rect, &k, zmin, zmax);
+        self.node(0, rect, &k, zmin, zmax, None);
         // Rays whose last samples rose to the end of their last slab.
         for i in 0..self.sc.rays.len() {
             if self.sc.tails[i].pending && !self.sc.resolved(i) {
@@ -999,9 +1026,19 @@ impl<'a> TileCtx<'a> {
         (lo <= hi).then_some((lo, hi))
     }
 
+    /// Whether a live ray of `rect` is unresolved.
+    fn any_unresolved(&self, rect: Rect) -> bool {
+        (rect.y0..rect.y1).any(|y| {
+            let row = (y * self.tw) as usize;
+            let z0s = &self.sc.z0s[row + rect.x0 as usize..row + rect.x1 as usize];
+            z0s.iter().any(|&z0| z0 != f64::INFINITY)
+        })
+    }
+
     /// Records ray `i`'s hit.
     fn set_hit(&mut self, i: usize, h: Hit) {
         self.out[i] = Some(h);
+        self.any_hit = true;
         self.sc.resolve(i);
     }
 
@@ -1063,13 +1100,31 @@ impl<'a> TileCtx<'a> {
         )
     }
 
-    fn node(&mut self, e: usize, rect: Rect, k: &Corners, za: f64, zb: f64) {
+    /// The node of `rect`'s frustum between depths `za` and `zb`, on
+    /// evaluator `e`. `held`: the [`Scratch::epoch`] at which `rect` was
+    /// last seen to hold an unresolved ray (by its parent, for a depth
+    /// half): while no ray was resolved since, a view whose rays all share
+    /// one depth range needs no pass over the rays.
+    fn node(&mut self, e: usize, rect: Rect, k: &Corners, za: f64, zb: f64, held: Option<u64>) {
         if self.caster.cancelled() {
             return;
         }
-        let Some((za, zb)) = self.active_range(rect, za, zb) else {
+        let range = match self.uniform {
+            Some((z0, z1)) => {
+                // Every live ray's range is `[z0, z1]`: the range is the
+                // slab's part within it, if an unresolved ray is left.
+                let (lo, hi) = (za.max(z0), zb.min(z1));
+                let held = held == Some(self.sc.epoch);
+                let r = (lo <= hi && (held || self.any_unresolved(rect))).then_some((lo, hi));
+                debug_assert_eq!(r, self.active_range(rect, za, zb), "uniform depth range");
+                r
+            }
+            None => self.active_range(rect, za, zb),
+        };
+        let Some((za, zb)) = range else {
             return;
         };
+        let held = Some(self.sc.epoch);
         let Some(b) = clip_box(&k.aabb(za, zb), &self.caster.bounds) else {
             return;
         };
@@ -1090,21 +1145,21 @@ impl<'a> TileCtx<'a> {
         if zb - za > 2.0 * cell {
             // Interval bisection along the frustum.
             let zm = 0.5 * (za + zb);
-            self.node(e, rect, k, za, zm);
-            self.node(e, rect, k, zm, zb);
+            self.node(e, rect, k, za, zm, held);
+            self.node(e, rect, k, zm, zb, held);
         } else if s > LEAF {
             let zm = 0.5 * (za + zb);
             for q in rect.quadrants() {
                 let kq = self.corners(q);
-                self.node(e, q, &kq, za, zm);
-                self.node(e, q, &kq, zm, zb);
+                self.node(e, q, &kq, za, zm, None);
+                self.node(e, q, &kq, zm, zb, None);
             }
         } else if zb - za > self.caster.leaf_depth_px * self.footprint(za) {
             // Thin the leaf's slab further: interval evaluations on short
             // tapes are cheaper than sampling every ray of the leaf.
             let zm = 0.5 * (za + zb);
-            self.node(e, rect, k, za, zm);
-            self.node(e, rect, k, zm, zb);
+            self.node(e, rect, k, za, zm, held);
+            self.node(e, rect, k, zm, zb, held);
         } else if let Some((za, zb)) = self.narrow(e, rect, k, za, zb) {
             self.leaf(e, rect, za, zb);
         }
@@ -1460,6 +1515,7 @@ impl<'a> TileCtx<'a> {
             sc.z1s[d.0] = f64::NEG_INFINITY;
             sc.deferred_direct.push((e as u32, d));
         }
+        sc.epoch += 1;
     }
 
     /// Refines the buffered brackets (evaluator `e`), records their hits and
@@ -2032,17 +2088,20 @@ pub fn render_with(
     let ts = tiles(w, h, settings.tile_size.max(1));
     // Per tile its shaded pixels, or `None` where no ray hit (the rows
     // are then the background: nothing to shade). The hit buffer is kept
-    // per worker, from tile to tile.
+    // per worker, from tile to tile, and cleared only after a tile with a
+    // hit (the caster writes nothing where no ray hits).
     let shaded: Vec<(Tile, Option<Vec<u8>>)> = ts
         .into_par_iter()
         .map_init(
-            || (None::<BatchEval>, Vec::<Option<Hit>>::new()),
-            |(ao_eval, hits), t| {
+            || (None::<BatchEval>, Vec::<Option<Hit>>::new(), false),
+            |(ao_eval, hits, dirty), t| {
                 let n = (t.w() * t.h()) as usize;
-                hits.clear();
-                hits.resize(n, None);
-                caster.cast_tile(camera, &t, hits);
-                if hits.iter().all(Option::is_none) {
+                if *dirty || hits.len() != n {
+                    hits.clear();
+                    hits.resize(n, None);
+                }
+                *dirty = caster.cast_tile_hits(camera, &t, hits);
+                if !*dirty {
                     return (t, None);
                 }
                 let mut ao = Vec::new();
