@@ -564,6 +564,29 @@ impl Alloc {
     }
 }
 
+/// Three distinct registers at once, in the order given.
+///
+/// # Panics
+/// If two of the indices are equal.
+#[inline]
+fn three_mut<T>(regs: &mut [T], idx: [u32; 3]) -> [&mut T; 3] {
+    let [i, j, k] = idx.map(|r| r as usize);
+    assert!(
+        i != j && j != k && i != k,
+        "three_mut: registers not distinct"
+    );
+    // Split at the largest, then at the middle one.
+    let mut order = [(i, 0), (j, 1), (k, 2)];
+    order.sort_unstable();
+    let (rest, hi) = regs.split_at_mut(order[2].0);
+    let (lo, mid) = rest.split_at_mut(order[1].0);
+    let mut refs: [Option<&mut T>; 3] = [None, None, None];
+    refs[order[0].1] = Some(&mut lo[order[0].0]);
+    refs[order[1].1] = Some(&mut mid[0]);
+    refs[order[2].1] = Some(&mut hi[0]);
+    refs.map(|r| r.expect("each slot set once"))
+}
+
 /// Disjoint access to a destination register and `K` source registers
 /// (sources may repeat but never equal the destination).
 #[inline]
@@ -774,16 +797,8 @@ fn exec(ins: &Instr, regs: &mut [Block], uni: &[f64], m: usize) {
         }
         Instr::SinCos(ds, dc, a) => {
             // Three distinct registers (the destinations are allocated while
-            // the operand is live): the operand is copied out first.
-            let x = regs[a as usize];
-            let (ds, dc) = (ds as usize, dc as usize);
-            let (lo, hi) = regs.split_at_mut(ds.max(dc));
-            let (first, second) = (&mut lo[ds.min(dc)], &mut hi[0]);
-            let (s, c) = if ds < dc {
-                (first, second)
-            } else {
-                (second, first)
-            };
+            // the operand is live).
+            let [s, c, x] = three_mut(regs, [ds, dc, a]);
             sm::sincos_slice(&x[..m], &mut s[..m], &mut c[..m]);
         }
         Instr::Blend(op, dst, s) => {
@@ -808,5 +823,38 @@ fn exec(ins: &Instr, regs: &mut [Block], uni: &[f64], m: usize) {
                 }
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::three_mut;
+
+    #[test]
+    fn three_mut_gives_the_registers_asked_for_in_order() {
+        for idx in [
+            [0, 1, 2],
+            [0, 2, 1],
+            [1, 0, 2],
+            [1, 2, 0],
+            [2, 0, 1],
+            [2, 1, 0],
+            [4, 0, 7],
+        ] {
+            let mut regs: Vec<u32> = (0..8).collect();
+            let [a, b, c] = three_mut(&mut regs, idx);
+            assert_eq!([*a, *b, *c], idx, "{idx:?}");
+            (*a, *b, *c) = (100, 200, 300);
+            for (k, v) in [100, 200, 300].into_iter().enumerate() {
+                assert_eq!(regs[idx[k] as usize], v, "{idx:?}");
+            }
+        }
+    }
+
+    #[test]
+    #[should_panic(expected = "not distinct")]
+    fn three_mut_refuses_a_repeated_register() {
+        let mut regs = [0u8; 4];
+        let _ = three_mut(&mut regs, [1, 3, 1]);
     }
 }
