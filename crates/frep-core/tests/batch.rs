@@ -421,6 +421,100 @@ proptest! {
     }
 }
 
+/// [`BatchEval::eval_lines`] at runs of `len` points along `axis` (the two
+/// other coordinates random per run, the axis coordinate random per point;
+/// the last run shorter when `short`) against [`BatchEval::eval`] at the
+/// same points: the same bits, twice (the second call reuses the split
+/// program), on the same evaluator as plain calls before and after; then
+/// as a grid likewise, every run with the first run's axis values.
+fn check_lines(tape: &Tape, seed: u64, axis: usize, runs: usize, len: usize, short: bool) {
+    let mut rng = Rng(seed | 1);
+    let inp = inputs(&mut rng);
+    let n = (runs * len).saturating_sub(usize::from(short && len > 1));
+    let fixed: [Vec<f64>; 2] = std::array::from_fn(|_| (0..runs).map(|_| rng.value()).collect());
+    let along: Vec<f64> = (0..n).map(|_| rng.value()).collect();
+    let mut c: [Vec<f64>; 3] = Default::default();
+    let others: Vec<usize> = (0..3).filter(|&k| k != axis).collect();
+    c[axis] = along.clone();
+    for (j, &k) in others.iter().enumerate() {
+        c[k] = (0..n).map(|i| fixed[j][i / len]).collect();
+    }
+    let mut be = BatchEval::new(tape);
+    for grid in [false, true] {
+        if grid {
+            c[axis] = (0..n).map(|i| along[i % len]).collect();
+        }
+        let mut want = vec![0.0; n];
+        be.eval(&c[0], &c[1], &c[2], &inp, &mut want);
+        for round in 0..2 {
+            let mut got = vec![0.0; n];
+            be.eval_lines(axis, len, grid, &c[0], &c[1], &c[2], &inp, &mut got);
+            for (i, (g, w)) in got.iter().zip(&want).enumerate() {
+                assert!(
+                    same(*g, *w),
+                    "axis {axis}, grid {grid}, run {} of {runs}×{len}, point {i}, round {round}: lines {g:e}, eval {w:e}\n{tape:?}",
+                    i / len
+                );
+            }
+        }
+        let mut again = vec![0.0; n];
+        be.eval(&c[0], &c[1], &c[2], &inp, &mut again);
+        assert!(again.iter().zip(&want).all(|(a, b)| same(*a, *b)));
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 200, failure_persistence: None, ..ProptestConfig::default() })]
+
+    #[test]
+    fn lines_equal_points(ops_ in prop::collection::vec(op_strategy(), 1..40), seed in any::<u64>(), axis in 0usize..3, runs in prop::sample::select(vec![1usize, 3, 40, 200]), len in prop::sample::select(vec![1usize, 2, 7, 129]), short in any::<bool>()) {
+        let tape = build(&ops_, true);
+        check_lines(&tape, seed, axis, runs, len, short);
+    }
+}
+
+/// A field whose parts depend on one axis, two, or none (a gyroid in a
+/// ball, with a uniform term and a coordinate read raw by a dependent
+/// operation), along every axis, in runs that do and do not fill blocks.
+#[test]
+fn lines_of_a_gyroid() {
+    let mut g = Graph::new();
+    let (x, y, z) = (g.x(0), g.x(1), g.x(2));
+    let eight = g.constant(8.0);
+    let [ax, ay, az] = [x, y, z].map(|c| g.binary(BinaryOp::Mul, eight, c));
+    let [sx, sy, sz] = [ax, ay, az].map(|a| g.unary(UnaryOp::Sin, a));
+    let [cx, cy, cz] = [ax, ay, az].map(|a| g.unary(UnaryOp::Cos, a));
+    let t1 = g.binary(BinaryOp::Mul, sx, cy);
+    let t2 = g.binary(BinaryOp::Mul, sy, cz);
+    let t3 = g.binary(BinaryOp::Mul, sz, cx);
+    let s = g.binary(BinaryOp::Add, t1, t2);
+    let gy = g.binary(BinaryOp::Add, s, t3);
+    let [qx, qy, qz] = [x, y, z].map(|c| g.pow_int(c, 2));
+    let q = g.binary(BinaryOp::Add, qx, qy);
+    let q = g.binary(BinaryOp::Add, q, qz);
+    let r = g.unary(UnaryOp::Sqrt, q);
+    let p = g.param(0);
+    let ball = g.binary(BinaryOp::Sub, p, r);
+    let xz = g.binary(BinaryOp::Mul, x, z);
+    let ng = g.unary(UnaryOp::Neg, gy);
+    let f = g.binary(BinaryOp::Min, ng, ball);
+    let f = g.binary(BinaryOp::Add, f, xz);
+    let tape = g.tape(&[f]);
+    for axis in 0..3 {
+        for (runs, len) in [(1, 1), (5, 9), (64, 2), (300, 7), (2, 200)] {
+            for short in [false, true] {
+                check_lines(&tape, 0x5eed + axis as u64, axis, runs, len, short);
+            }
+        }
+    }
+    // Fields that do not depend on the axis at all, a constant one, and
+    // one with nothing worth hoisting.
+    for f in [sx, qx, eight, ball] {
+        let tape = g.tape(&[f]);
+        check_lines(&tape, 7, 2, 10, 3, true);
+    }
+}
+
 /// `sin a` and `cos a` of one argument are computed together (one argument
 /// reduction): the same bits as the lane functions, whichever comes first,
 /// with the argument, a coordinate or a computed value, used again after

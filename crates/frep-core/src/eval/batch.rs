@@ -21,6 +21,11 @@
 //! * **Gradients**: [`BatchEval::eval_grad`] runs the same program carrying
 //!   the three partial derivatives along (forward-mode automatic
 //!   differentiation), for many points at once.
+//! * **Lines**: [`BatchEval::eval_lines`] evaluates points on lines parallel
+//!   to a coordinate axis (a ray of an axis-aligned orthographic view, a row
+//!   of a sampled grid) with the transcendental functions of the other two
+//!   coordinates computed once per line, and on a grid of such lines those
+//!   of the axis coordinate once per position (the same bits as `eval`).
 //!
 //! ## Semantics
 //! Every operation computes what [`ops`] computes, except that runtime errors
@@ -37,6 +42,7 @@
 //! so it picks the else branch, as the scalar evaluator does.
 
 mod grad;
+mod lines;
 
 pub use grad::GradRegs;
 
@@ -170,6 +176,10 @@ struct Program {
     /// Whether x, y, z (registers 0, 1, 2) are read.
     xyz: [bool; 3],
     regs: Vec<Block>,
+    /// The program split for lines along each axis (`axis`) and for grids
+    /// along each axis (`3 + axis`), once asked for (see
+    /// [`BatchEval::eval_lines`]; `Some(None)`: nothing worth splitting).
+    lines: [Option<Option<Box<lines::LinePlan>>>; 6],
 }
 
 /// Where a tape node's value lives.
@@ -194,6 +204,9 @@ pub struct BatchEval {
     uni_inputs: Option<Inputs>,
     first: Option<Program>,
     all: Option<Program>,
+    /// The saved values of [`BatchEval::eval_lines`], kept for their
+    /// capacity.
+    line_slots: Vec<f64>,
 }
 
 impl BatchEval {
@@ -237,6 +250,7 @@ impl BatchEval {
             uni_inputs: None,
             first: None,
             all: None,
+            line_slots: Vec::new(),
         }
     }
 
@@ -522,6 +536,7 @@ fn compile(tape: &Tape, alias: &[u32], loc: &[Loc], outputs: &[NodeId]) -> Progr
         outputs,
         xyz,
         regs: vec![[0.0; LANES]; n_regs as usize],
+        lines: [None, None, None, None, None, None],
     }
 }
 
@@ -606,6 +621,13 @@ fn split<T, const K: usize>(regs: &mut [T], dst: u32, srcs: [u32; K]) -> (&mut T
     (d, s)
 }
 
+/// Fills the registers of broadcast uniforms (every lane).
+fn run_header(prog: &mut Program, uni: &[f64]) {
+    for &(r, u) in &prog.bcast {
+        prog.regs[r as usize] = [uni[u as usize]; LANES];
+    }
+}
+
 fn run(
     prog: &mut Program,
     uni: &[f64],
@@ -615,9 +637,7 @@ fn run(
     outs: &mut [&mut [f64]],
 ) {
     let n = xs.len();
-    for &(r, u) in &prog.bcast {
-        prog.regs[r as usize] = [uni[u as usize]; LANES];
-    }
+    run_header(prog, uni);
     let mut start = 0;
     while start < n {
         let m = LANES.min(n - start);
@@ -760,7 +780,7 @@ fn pow_int_kernel(d: &mut [f64], a: &[f64], n: i32) {
     }
 }
 
-#[inline]
+#[inline(always)]
 fn exec(ins: &Instr, regs: &mut [Block], uni: &[f64], m: usize) {
     match *ins {
         Instr::Unary(op, dst, a) => {
