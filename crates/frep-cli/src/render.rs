@@ -220,8 +220,10 @@ pub fn slices(args: SlicesArgs) -> anyhow::Result<ExitCode> {
         bail!("--grid: each size must be 1..=2048");
     }
     let tape = model.tape();
+    // A batch is a grid of lines along x (see `sample_grid`): functions
+    // of y and z are evaluated once per row, of x once per column.
     let grid = sample_grid(&bounds, n, |xs, ys, zs, out| {
-        BatchEval::new(&tape).eval(xs, ys, zs, &inputs, out)
+        BatchEval::new(&tape).eval_lines(0, n[0], true, xs, ys, zs, &inputs, out)
     });
     let index = write_slices(&args.output, &grid, &SliceOptions::default())
         .with_context(|| format!("cannot write {}", args.output.display()))?;

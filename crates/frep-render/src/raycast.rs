@@ -26,7 +26,10 @@
 //!    where a ray of the leaf enters the model box behind that depth).
 //! 2. **Leaves.** Every unresolved ray of a leaf is sampled at steps of
 //!    [`ModelCaster::step_px`] pixel footprints across the slab, all rays of
-//!    the leaf in one batch ([`BatchEval`], vectorised across rays). The
+//!    the leaf in one batch ([`BatchEval`], vectorised across rays; in an
+//!    orthographic view straight along an axis, as lines:
+//!    [`BatchEval::eval_lines`], the transcendental functions of the other
+//!    two coordinates once per ray and of the axis one once per depth). The
 //!    first sign change (`f >= 0` inside, NaN outside) is bracketed; the
 //!    ray is then resolved (searched no further), and its bracket waits
 //!    for the end of the tile, where all brackets of one shortened tape are
@@ -124,6 +127,9 @@ pub struct CastStats {
     /// Tiles found outside by one interval evaluation before any of their
     /// rays was set up (see the module docs).
     pub empty_tiles: u64,
+    /// Of the point evaluations, those made as lines along a coordinate
+    /// axis (see [`ModelCaster::lines`]).
+    pub line_points: u64,
 }
 
 #[derive(Default)]
@@ -133,6 +139,7 @@ struct AtomicStats {
     grad_evals: AtomicU64,
     simplified: AtomicU64,
     empty_tiles: AtomicU64,
+    line_points: AtomicU64,
 }
 
 /// A [`TileCaster`] for a compiled model (see the module docs).
@@ -162,6 +169,12 @@ pub struct ModelCaster {
     /// sampling on, and is searched no further where that is outside; the
     /// next check waits twice as many slabs (0: never checked).
     pub prune_after: u32,
+    /// Whether the leaves of an orthographic view straight along a
+    /// coordinate axis are evaluated as lines ([`BatchEval::eval_lines`]:
+    /// expensive functions of the other two coordinates once per ray, of
+    /// the axis one once per depth; the same values). Default on; off for
+    /// comparisons.
+    pub lines: bool,
     stats: AtomicStats,
     /// Per-thread evaluators and buffers, reused from tile to tile.
     pool: Mutex<Vec<Scratch>>,
@@ -182,6 +195,7 @@ impl ModelCaster {
             leaf_depth_px: 16.0,
             narrow_px: 4.0,
             prune_after: 3,
+            lines: true,
             stats: AtomicStats::default(),
             pool: Mutex::new(Vec::new()),
         }
@@ -200,6 +214,7 @@ impl ModelCaster {
             leaf_depth_px: 16.0,
             narrow_px: 4.0,
             prune_after: 3,
+            lines: true,
             stats: AtomicStats::default(),
             pool: Mutex::new(Vec::new()),
         }
@@ -225,6 +240,7 @@ impl ModelCaster {
             grad_evals: self.stats.grad_evals.load(Ordering::Relaxed),
             simplified: self.stats.simplified.load(Ordering::Relaxed),
             empty_tiles: self.stats.empty_tiles.load(Ordering::Relaxed),
+            line_points: self.stats.line_points.load(Ordering::Relaxed),
         }
     }
 
@@ -320,6 +336,8 @@ impl ModelCaster {
         s.simplified.fetch_add(stats.simplified, Ordering::Relaxed);
         s.empty_tiles
             .fetch_add(stats.empty_tiles, Ordering::Relaxed);
+        s.line_points
+            .fetch_add(stats.line_points, Ordering::Relaxed);
         any_hit
     }
 }
@@ -561,6 +579,60 @@ impl Scratch {
         );
     }
 
+    /// How the leaf points just written (`leaf_rays` with `len` depths
+    /// each) can be evaluated, where the rays run along coordinate axis
+    /// `axis`: as lines where each ray's other two coordinates are the same
+    /// bits at its first and last depth (so at all: the points are
+    /// `origin + 0·t` there, and the depths are monotone), as a grid where
+    /// moreover every ray has the first one's bits along the axis (the same
+    /// depths, origins and steps there), else point by point. Checks
+    /// [`TileCtx::lines`] in debug builds.
+    fn sampling(&self, axis: usize, leaf_rays: &[(usize, f64, f64)], len: usize) -> Sampling {
+        let (b, c) = match axis {
+            0 => (1, 2),
+            1 => (0, 2),
+            _ => (0, 1),
+        };
+        let cs = [&self.xs, &self.ys, &self.zs];
+        let same = |k: usize, i: usize, j: usize| cs[k][i].to_bits() == cs[k][j].to_bits();
+        let lines = (0..leaf_rays.len()).all(|r| {
+            let (i, j) = (r * len, r * len + len - 1);
+            same(b, i, j) && same(c, i, j)
+        });
+        if !lines {
+            return Sampling::Points;
+        }
+        let key = |&(i, lo, hi): &(usize, f64, f64)| {
+            let r = &self.rays[i];
+            [lo, hi, r.origin[axis], r.dz[axis]].map(f64::to_bits)
+        };
+        let first = leaf_rays.first().map(key);
+        if leaf_rays.iter().all(|l| Some(key(l)) == first) {
+            Sampling::Grid
+        } else {
+            Sampling::Lines
+        }
+    }
+
+    /// [`Scratch::eval_points`] for leaf points on lines along `axis`,
+    /// `len` per ray (see [`Scratch::sampling`]).
+    fn eval_lines(&mut self, e: usize, axis: usize, len: usize, grid: bool, inputs: &Inputs) {
+        let n = self.np;
+        if self.vals.len() < n {
+            self.vals.resize(n, 0.0);
+        }
+        counted_batch(&mut self.evals, &mut self.bytes, e).eval_lines(
+            axis,
+            len,
+            grid,
+            &self.xs[..n],
+            &self.ys[..n],
+            &self.zs[..n],
+            inputs,
+            &mut self.vals[..n],
+        );
+    }
+
     /// Whether ray `i` is resolved (its hit found, perhaps not recorded
     /// yet) or dead.
     fn resolved(&self, i: usize) -> bool {
@@ -748,6 +820,17 @@ struct Tail {
     z_last: f64,
 }
 
+/// How a leaf's sample points can be evaluated (see [`Scratch::sampling`]).
+#[derive(Clone, Copy, PartialEq, PartialOrd)]
+enum Sampling {
+    /// Point by point.
+    Points,
+    /// As lines along the view's axis ([`BatchEval::eval_lines`]).
+    Lines,
+    /// As lines with the same depths on every ray.
+    Grid,
+}
+
 /// A pixel rectangle `[x0, x1) × [y0, y1)` in tile-local pixels.
 #[derive(Clone, Copy)]
 struct Rect {
@@ -839,6 +922,14 @@ struct TileCtx<'a> {
     uniform: Option<(f64, f64)>,
     /// Whether a hit was recorded.
     any_hit: bool,
+    /// The coordinate axis every ray runs along, where they all do (an
+    /// orthographic view straight along an axis) and share one depth range
+    /// from 0 on, and whether their origins agree along it: a ray's other
+    /// two coordinates are then the same bits at every depth (`o + 0·t`,
+    /// `t >= 0`), and where the origins agree so are the axis coordinates of
+    /// every ray of a leaf (their depths are the same): its samples are
+    /// evaluated as lines, or a grid ([`BatchEval::eval_lines`]).
+    lines: Option<(usize, bool)>,
     stats: CastStats,
 }
 
@@ -907,6 +998,20 @@ impl<'a> TileCtx<'a> {
         let uniform = live.next().map(|r| (r.z0, r.z1)).filter(|&(z0, z1)| {
             live.all(|r| r.z0.to_bits() == z0.to_bits() && r.z1.to_bits() == z1.to_bits())
         });
+        let axis = fixed.and_then(|(_, dz, _)| match dz.map(|v| v == 0.0) {
+            [false, true, true] => Some(0),
+            [true, false, true] => Some(1),
+            [true, true, false] => Some(2),
+            _ => None,
+        });
+        let lines = match (axis, uniform) {
+            (Some(a), Some((z0, _))) if z0 >= 0.0 && caster.lines => {
+                let mut live = sc.rays.iter().filter(|r| r.live);
+                let o = live.next().map(|r| r.origin[a].to_bits());
+                Some((a, live.all(|r| Some(r.origin[a].to_bits()) == o)))
+            }
+            _ => None,
+        };
         sc.tails.clear();
         sc.tails.resize(sc.rays.len(), Tail::default());
         sc.misses.clear();
@@ -921,6 +1026,7 @@ impl<'a> TileCtx<'a> {
             top: None,
             uniform,
             any_hit: false,
+            lines,
             stats: CastStats::default(),
         }
     }
@@ -1611,7 +1717,22 @@ impl<'a> TileCtx<'a> {
             }
         }
         self.stats.point_evals += total as u64;
-        sc.eval_points(e, &self.caster.inputs);
+        match self.lines {
+            Some((axis, grid)) => {
+                debug_assert!(
+                    sc.sampling(axis, &leaf_rays, n + 1)
+                        >= if grid {
+                            Sampling::Grid
+                        } else {
+                            Sampling::Lines
+                        },
+                    "leaf points on lines"
+                );
+                self.stats.line_points += total as u64;
+                sc.eval_lines(e, axis, n + 1, grid, &self.caster.inputs);
+            }
+            None => sc.eval_points(e, &self.caster.inputs),
+        }
         let vals = std::mem::take(&mut sc.vals);
         let prune_after = self.caster.prune_after;
         // Relative costs of sampling a ray over one more leaf slab and of

@@ -98,7 +98,11 @@ impl Grid {
 /// Samples `f` at the voxel centres of an `n[0]×n[1]×n[2]` grid over
 /// `bounds`. `f(xs, ys, zs, out)` evaluates a batch (one z slice,
 /// `n[0] * n[1]` points, x fastest) and writes one value per point; slices
-/// run in parallel (rayon).
+/// run in parallel (rayon). Each row of `n[0]` points of a batch has one
+/// `y` and one `z`, and every row the same `x`s (the same bits): a batch is
+/// a grid of lines along x, for
+/// [`BatchEval::eval_lines`](frep_core::eval::batch::BatchEval::eval_lines)
+/// `(0, n[0], true, ..)`.
 pub fn sample_grid<F>(bounds: &Aabb, n: [usize; 3], f: F) -> Grid
 where
     F: Fn(&[f64], &[f64], &[f64], &mut [f64]) + Sync,
@@ -327,6 +331,27 @@ mod tests {
             assert_eq!(g.get(i, j, k), (p[0] + 10.0 * p[1] + 100.0 * p[2]) as f32);
         }
         assert_eq!(g.position(0, 0, 0), [0.25, 1.0 / 3.0, 0.5]);
+    }
+
+    /// The batches are grids of lines along x (as documented, for
+    /// `BatchEval::eval_lines`): per row one y and one z, every row the
+    /// same xs, bit for bit.
+    #[test]
+    fn batches_are_grids_of_lines_along_x() {
+        let b = Aabb::new([-0.3, 0.1, -2.0], [0.7, 2.0, 4.0]);
+        let n = [5, 3, 4];
+        sample_grid(&b, n, |xs, ys, zs, out| {
+            assert_eq!(xs.len(), n[0] * n[1]);
+            for (r, row) in xs.chunks(n[0]).enumerate() {
+                let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                assert_eq!(bits(row), bits(&xs[..n[0]]), "row {r}: xs");
+                for i in r * n[0]..(r + 1) * n[0] {
+                    assert_eq!(ys[i].to_bits(), ys[r * n[0]].to_bits(), "row {r}: ys");
+                    assert_eq!(zs[i].to_bits(), zs[r * n[0]].to_bits(), "row {r}: zs");
+                }
+            }
+            out.fill(0.0);
+        });
     }
 
     #[test]

@@ -14,8 +14,8 @@ use frep_core::eval::batch::BatchEval;
 use frep_core::eval::Inputs;
 use frep_core::Model;
 use frep_render::{
-    ascii_mask, render, render_hits, shade, Aabb, Camera, HitBuffer, ModelCaster, RenderError,
-    RenderSettings,
+    ascii_mask, cast_tiled, render, render_hits, shade, Aabb, Camera, HitBuffer, ModelCaster,
+    RenderError, RenderSettings,
 };
 
 fn example(name: &str) -> String {
@@ -520,6 +520,68 @@ fn rays_down_a_tube_bore_are_pruned() {
                 2 * pruned_st.point_evals < full_st.point_evals,
                 "{full_st:?} → {pruned_st:?}"
             );
+        }
+    }
+}
+
+/// Orthographic views straight along each axis, both ways: the leaves are
+/// evaluated as lines (functions of the other two coordinates once per ray,
+/// of the axis one once per depth), and the hits are those of evaluating
+/// point by point, bit for bit, with the same work counted. A view just off
+/// the axis is evaluated point by point.
+#[test]
+fn lines_along_an_axis_equal_points() {
+    let gyroid = example("m3_gyroid.hf");
+    let mixed = "my_model(x[3], a[1]) { my_model = 0.7 - sqrt(x[1]^2 + x[2]^2 + x[3]^2) \
+                 + 0.2 * sin(9 * x[1]) * cos(7 * x[3]) + 0.1 * exp(-x[2]); }";
+    let b = Aabb::new([-1.0; 3], [1.0; 3]);
+    for src in [gyroid.as_str(), mixed] {
+        let model = Model::compile(src).unwrap();
+        for (dir, up) in [
+            ([0.0, 0.0, -1.0], [0.0, 1.0, 0.0]),
+            ([0.0, 0.0, 1.0], [0.0, 1.0, 0.0]),
+            ([1.0, 0.0, 0.0], [0.0, 0.0, 1.0]),
+            ([0.0, -1.0, 0.0], [0.0, 0.0, 1.0]),
+            ([1e-3, 0.0, -1.0], [0.0, 1.0, 0.0]),
+        ] {
+            let eye = [-3.0 * dir[0], -3.0 * dir[1], -3.0 * dir[2]];
+            let cam = Camera::look_at(
+                eye,
+                [0.0; 3],
+                up,
+                frep_render::camera::Projection::Orthographic { half_extent: 1.0 },
+            );
+            let cast = |lines: bool| {
+                let mut c = ModelCaster::new(&model, Inputs::default(), b);
+                c.lines = lines;
+                let hits = cast_tiled(&c, &cam, 72, 64, 16);
+                (hits, c.stats())
+            };
+            let (on, on_st) = cast(true);
+            let (off, off_st) = cast(false);
+            assert!(on.hit_count() > 1000, "{dir:?}: {} hits", on.hit_count());
+            for (i, (a, b)) in on.hits.iter().zip(&off.hits).enumerate() {
+                let bits = |h: &Option<frep_render::Hit>| {
+                    h.map(|h| {
+                        let mut v = vec![h.t.to_bits()];
+                        v.extend(h.position.iter().chain(&h.normal).map(|x| x.to_bits()));
+                        v
+                    })
+                };
+                assert_eq!(bits(a), bits(b), "{dir:?}: pixel {i}");
+            }
+            assert_eq!(on_st.point_evals, off_st.point_evals, "{dir:?}");
+            assert_eq!(off_st.line_points, 0);
+            if dir[0] == 1e-3 {
+                assert_eq!(on_st.line_points, 0, "off the axis");
+            } else {
+                // Most samples are in leaves of tiles whose rays share one
+                // depth range.
+                assert!(
+                    2 * on_st.line_points > on_st.point_evals,
+                    "{dir:?}: {on_st:?}"
+                );
+            }
         }
     }
 }
