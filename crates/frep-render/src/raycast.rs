@@ -566,17 +566,24 @@ impl Scratch {
     /// Evaluates output 0 of evaluator `e` at the buffered points into
     /// `vals`.
     fn eval_points(&mut self, e: usize, inputs: &Inputs) {
+        self.eval_points_on(e, None, inputs);
+    }
+
+    /// [`Scratch::eval_points`]; with `lines = Some((axis, len, grid))`,
+    /// for leaf points on lines along `axis`, `len` per ray
+    /// ([`BatchEval::eval_lines`]; see [`Scratch::sampling`]).
+    fn eval_points_on(&mut self, e: usize, lines: Option<(usize, usize, bool)>, inputs: &Inputs) {
         let n = self.np;
         if self.vals.len() < n {
             self.vals.resize(n, 0.0);
         }
-        counted_batch(&mut self.evals, &mut self.bytes, e).eval(
-            &self.xs[..n],
-            &self.ys[..n],
-            &self.zs[..n],
-            inputs,
-            &mut self.vals[..n],
-        );
+        let b = counted_batch(&mut self.evals, &mut self.bytes, e);
+        let (xs, ys, zs) = (&self.xs[..n], &self.ys[..n], &self.zs[..n]);
+        let out = &mut self.vals[..n];
+        match lines {
+            Some((axis, len, grid)) => b.eval_lines(axis, len, grid, xs, ys, zs, inputs, out),
+            None => b.eval(xs, ys, zs, inputs, out),
+        }
     }
 
     /// How the leaf points just written (`leaf_rays` with `len` depths
@@ -612,25 +619,6 @@ impl Scratch {
         } else {
             Sampling::Lines
         }
-    }
-
-    /// [`Scratch::eval_points`] for leaf points on lines along `axis`,
-    /// `len` per ray (see [`Scratch::sampling`]).
-    fn eval_lines(&mut self, e: usize, axis: usize, len: usize, grid: bool, inputs: &Inputs) {
-        let n = self.np;
-        if self.vals.len() < n {
-            self.vals.resize(n, 0.0);
-        }
-        counted_batch(&mut self.evals, &mut self.bytes, e).eval_lines(
-            axis,
-            len,
-            grid,
-            &self.xs[..n],
-            &self.ys[..n],
-            &self.zs[..n],
-            inputs,
-            &mut self.vals[..n],
-        );
     }
 
     /// Whether ray `i` is resolved (its hit found, perhaps not recorded
@@ -1729,7 +1717,7 @@ impl<'a> TileCtx<'a> {
                     "leaf points on lines"
                 );
                 self.stats.line_points += total as u64;
-                sc.eval_lines(e, axis, n + 1, grid, &self.caster.inputs);
+                sc.eval_points_on(e, Some((axis, n + 1, grid)), &self.caster.inputs);
             }
             None => sc.eval_points(e, &self.caster.inputs),
         }

@@ -641,23 +641,39 @@ fn run(
     let mut start = 0;
     while start < n {
         let m = LANES.min(n - start);
-        for (k, input) in [xs, ys, zs].into_iter().enumerate() {
-            if prog.xyz[k] {
-                prog.regs[k][..m].copy_from_slice(&input[start..start + m]);
-            }
-        }
+        load_block(prog, [xs, ys, zs], start, m);
         for ins in &prog.instrs {
             exec(ins, &mut prog.regs, uni, m);
         }
-        for (o, src) in outs.iter_mut().zip(&prog.outputs) {
-            let o = &mut o[start..start + m];
-            match *src {
-                Src::Reg(r) => o.copy_from_slice(&prog.regs[r as usize][..m]),
-                Src::Uni(u) => o.fill(uni[u as usize]),
-            }
-        }
+        store_block(prog, uni, outs, start, m);
         start += m;
     }
+    fill_missing(prog, outs);
+}
+
+/// Loads the `m` points from `start` of `c` (x, y, z) into the coordinate
+/// registers the program reads.
+fn load_block(prog: &mut Program, c: [&[f64]; 3], start: usize, m: usize) {
+    for (k, input) in c.into_iter().enumerate() {
+        if prog.xyz[k] {
+            prog.regs[k][..m].copy_from_slice(&input[start..start + m]);
+        }
+    }
+}
+
+/// Stores the block's outputs (lanes `..m`) at `start` in `outs`.
+fn store_block(prog: &Program, uni: &[f64], outs: &mut [&mut [f64]], start: usize, m: usize) {
+    for (o, src) in outs.iter_mut().zip(&prog.outputs) {
+        let o = &mut o[start..start + m];
+        match *src {
+            Src::Reg(r) => o.copy_from_slice(&prog.regs[r as usize][..m]),
+            Src::Uni(u) => o.fill(uni[u as usize]),
+        }
+    }
+}
+
+/// NaN into the outputs the program does not have.
+fn fill_missing(prog: &Program, outs: &mut [&mut [f64]]) {
     for o in outs.iter_mut().skip(prog.outputs.len()) {
         o.fill(f64::NAN);
     }

@@ -24,7 +24,10 @@
 //! Every lane computes what [`BatchEval::eval`] computes at the same point
 //! (the same operations on the same values): the results are the same bits.
 
-use super::{exec, run, run_header, BatchEval, Block, Instr, Program, Src, LANES};
+use super::{
+    exec, fill_missing, load_block, run, run_header, store_block, BatchEval, Block, Instr, Program,
+    Src, LANES,
+};
 use crate::eval::Inputs;
 use crate::ops::UnaryOp;
 
@@ -197,9 +200,19 @@ impl LinePlan {
         // The heads need only what leads to a saved value, the steps only
         // what leads to the output (a cheap operand of a hoisted
         // instruction is not needed per point).
-        prune(prog, &mut runs);
-        prune(prog, &mut depths);
-        prune_steps(prog, &mut steps);
+        let head = |(i, saves): &(u32, Vec<(u32, u32)>)| {
+            (Use::Exec(&prog.instrs[*i as usize]), !saves.is_empty())
+        };
+        retain_live(prog, None, &mut runs, head);
+        retain_live(prog, None, &mut depths, head);
+        let out = match prog.outputs.first() {
+            Some(Src::Reg(r)) => Some(*r),
+            _ => None,
+        };
+        retain_live(prog, out, &mut steps, |s| match *s {
+            Step::Exec(i) => (Use::Exec(&prog.instrs[i as usize]), false),
+            Step::Run(r, _) | Step::Depth(r, _) => (Use::Fill(r), false),
+        });
         hoisted.then_some(LinePlan {
             runs,
             depths,
@@ -210,64 +223,46 @@ impl LinePlan {
     }
 }
 
-/// Drops from a head the instructions no saved value depends on (through
-/// the registers as the head writes and reads them).
-fn prune(prog: &Program, head: &mut Vec<(u32, Vec<(u32, u32)>)>) {
+/// What an item of a head or of the steps does with the registers.
+enum Use<'p> {
+    Exec(&'p Instr),
+    /// Writes the register (a fill from a slot).
+    Fill(u32),
+}
+
+/// Keeps the items whose registers a later kept item reads (or that `out`
+/// reads at the end), and those the view marks as needed anyway: a backward
+/// pass over the registers as the items write and read them.
+fn retain_live<'p, T>(
+    prog: &'p Program,
+    out: Option<u32>,
+    items: &mut Vec<T>,
+    view: impl Fn(&T) -> (Use<'p>, bool),
+) {
     let mut live = vec![false; prog.regs.len()];
-    let mut keep = vec![false; head.len()];
-    for (k, (i, saves)) in head.iter().enumerate().rev() {
-        let ins = &prog.instrs[*i as usize];
-        let needed = !saves.is_empty() || destinations(ins).any(|r| live[r as usize]);
-        // Its destinations are written here: readers before it read other
-        // values.
-        for r in destinations(ins) {
+    if let Some(r) = out {
+        live[r as usize] = true;
+    }
+    let mut keep = vec![false; items.len()];
+    for (k, item) in items.iter().enumerate().rev() {
+        let (u, needed) = view(item);
+        let (writes, reads): (Vec<u32>, Vec<u32>) = match u {
+            Use::Exec(ins) => (destinations(ins).collect(), sources(ins).collect()),
+            Use::Fill(r) => (vec![r], Vec::new()),
+        };
+        keep[k] = needed || writes.iter().any(|&r| live[r as usize]);
+        // Written here: readers before it read other values.
+        for &r in &writes {
             live[r as usize] = false;
         }
-        if needed {
-            keep[k] = true;
-            for r in sources(ins) {
+        if keep[k] {
+            for &r in &reads {
                 live[r as usize] = true;
             }
         }
     }
     let mut k = 0;
-    head.retain(|_| {
-        k += 1;
-        keep[k - 1]
-    });
-}
-
-/// Drops the steps whose registers no later step nor the output reads.
-fn prune_steps(prog: &Program, steps: &mut Vec<Step>) {
-    let mut live = vec![false; prog.regs.len()];
-    if let Some(Src::Reg(r)) = prog.outputs.first() {
-        live[*r as usize] = true;
-    }
-    let mut keep = vec![false; steps.len()];
-    for (k, step) in steps.iter().enumerate().rev() {
-        match *step {
-            Step::Exec(i) => {
-                let ins = &prog.instrs[i as usize];
-                if destinations(ins).any(|r| live[r as usize]) {
-                    keep[k] = true;
-                    for r in destinations(ins) {
-                        live[r as usize] = false;
-                    }
-                    for r in sources(ins) {
-                        live[r as usize] = true;
-                    }
-                }
-            }
-            Step::Run(r, _) | Step::Depth(r, _) => {
-                if live[r as usize] {
-                    keep[k] = true;
-                    live[r as usize] = false;
-                }
-            }
-        }
-    }
-    let mut k = 0;
-    steps.retain(|_| {
+    items.retain(|_| {
         k += 1;
         keep[k - 1]
     });
@@ -429,11 +424,7 @@ fn run_lines(
                 run += 1;
             }
         }
-        for (k, c) in pts.c.iter().enumerate() {
-            if xyz[k] {
-                prog.regs[k][..m].copy_from_slice(&c[start..start + m]);
-            }
-        }
+        load_block(prog, pts.c, start, m);
         for step in &plan.steps {
             match *step {
                 Step::Exec(i) => exec(&prog.instrs[i as usize], &mut prog.regs, uni, m),
@@ -447,25 +438,19 @@ fn run_lines(
                 }
             }
         }
-        match prog.outputs.first() {
-            Some(Src::Reg(r)) => {
-                out[start..start + m].copy_from_slice(&prog.regs[*r as usize][..m])
-            }
-            Some(Src::Uni(u)) => out[start..start + m].fill(uni[*u as usize]),
-            None => out[start..start + m].fill(f64::NAN),
-        }
+        store_block(prog, uni, &mut [&mut *out], start, m);
         start += m;
     }
+    fill_missing(prog, &mut [out]);
 }
 
-/// `d[j] = v[at[j]]` for every lane (`at` within `v`: clamped, which
-/// changes nothing and lets the loop vectorise without bounds checks).
+/// `d[j] = v[at[j]]` for every lane (`at` is within `v`; clamped all the
+/// same, which changes nothing and leaves no bounds check in the loop).
 #[inline]
 fn gather(d: &mut [f64], v: &[f64], at: &[u32]) {
-    let last = v.len().saturating_sub(1);
-    if v.is_empty() {
+    let Some(last) = v.len().checked_sub(1) else {
         return;
-    }
+    };
     for (o, &k) in d.iter_mut().zip(at) {
         *o = v[(k as usize).min(last)];
     }
