@@ -387,7 +387,7 @@ fn div_ieee(a: Interval, b: Interval) -> Interval {
 
 /// Whether `[lo - m, hi + m]` holds a point `off + k * period`.
 fn hits(a: Interval, off: f64, period: f64) -> bool {
-    let m = 1e-9 * (1.0 + a.lo.abs().max(a.hi.abs()));
+    let m = extreme_margin(a);
     let n0 = ((a.lo - off) / period).floor();
     (-1..=2).any(|k| {
         let c = off + (n0 + f64::from(k)) * period;
@@ -396,33 +396,66 @@ fn hits(a: Interval, off: f64, period: f64) -> bool {
 }
 
 fn sin_cos(a: Interval, is_cos: bool) -> Interval {
-    let Some(nan) = trig_guard(a) else {
-        return trig_whole(a);
-    };
-    // The batch evaluator's branch-free sin/cos (< 1 ulp from `std`, so
-    // within the LIBM_ULPS widening; cheaper than libm's calls). The
-    // values are those `sin_cos_pair` uses.
+    let (s, c) = sin_cos_pair(a);
     if is_cos {
-        trig_part(a, nan, simd_math::cos(a.lo), simd_math::cos(a.hi), 0.0, PI)
+        c
     } else {
-        let (fl, fh) = (simd_math::sin(a.lo), simd_math::sin(a.hi));
-        trig_part(a, nan, fl, fh, FRAC_PI_2, -FRAC_PI_2)
+        s
     }
 }
 
-/// `(sin a, cos a)`, each exactly as [`sin_cos`] gives it, from one
-/// reduction of each end.
+/// `(sin a, cos a)`, from one reduction of each end (both ends at once).
 fn sin_cos_pair(a: Interval) -> (Interval, Interval) {
     let Some(nan) = trig_guard(a) else {
         let w = trig_whole(a);
         return (w, w);
     };
-    let (sl, cl) = simd_math::sin_cos(a.lo);
-    let (sh, ch) = simd_math::sin_cos(a.hi);
+    // The batch evaluator's branch-free sin/cos (< 1 ulp from `std`, so
+    // within the LIBM_ULPS widening; cheaper than libm's calls).
+    let Some(t) = simd_math::sin_cos_ends(a.lo, a.hi) else {
+        // Ends beyond the fast reduction's range: `std`, and the extremes
+        // found by division.
+        let (sl, cl) = simd_math::sin_cos(a.lo);
+        let (sh, ch) = simd_math::sin_cos(a.hi);
+        let [cmax, smax, cmin, smin] =
+            [0.0, FRAC_PI_2, PI, -FRAC_PI_2].map(|off| hits(a, off, 2.0 * PI));
+        return (
+            trig_part(nan, sl, sh, smax, smin),
+            trig_part(nan, cl, ch, cmax, cmin),
+        );
+    };
+    let [cmax, smax, cmin, smin] = quarter_extremes(&t, extreme_margin(a));
     (
-        trig_part(a, nan, sl, sh, FRAC_PI_2, -FRAC_PI_2),
-        trig_part(a, nan, cl, ch, 0.0, PI),
+        trig_part(nan, t.sin[0], t.sin[1], smax, smin),
+        trig_part(nan, t.cos[0], t.cos[1], cmax, cmin),
     )
+}
+
+/// How far outside an interval an extreme of sin/cos still counts as in
+/// it (rounding of the ends and of the reduction).
+fn extreme_margin(a: Interval) -> f64 {
+    1e-9 * (1.0 + a.lo.abs().max(a.hi.abs()))
+}
+
+/// Which of the points `j·π/2` lie in `[lo − m, hi + m]`, by `j mod 4`:
+/// `[cos max, sin max, cos min, sin min]`, from the reductions of the ends
+/// (`lo ≈ k₀·π/2 + r₀`, `hi ≈ k₁·π/2 + r₁`): no division.
+fn quarter_extremes(t: &simd_math::TrigEnds, m: f64) -> [bool; 4] {
+    // The first j with j·π/2 ≥ lo − m: k₀ when r₀ ≤ m (|r| ≲ π/4, so k₀ − 1
+    // never is), else k₀ + 1; the last with j·π/2 ≤ hi + m likewise.
+    let first = t.k[0] + if t.r[0] <= m { 0.0 } else { 1.0 };
+    let last = t.k[1] - if t.r[1] >= -m { 0.0 } else { 1.0 };
+    let mut f = [false; 4];
+    if last - first >= 3.0 {
+        return [true; 4];
+    }
+    let mut j = first;
+    while j <= last {
+        // Whole numbers below 2^21: exact as integers.
+        f[(j as i64).rem_euclid(4) as usize] = true;
+        j += 1.0;
+    }
+    f
 }
 
 /// The NaN flag of `sin a` / `cos a` where its ends are worth evaluating;
@@ -447,10 +480,9 @@ fn trig_whole(a: Interval) -> Interval {
     }
 }
 
-/// A sine-like function over `a` from its values `fl`, `fh` at the ends:
-/// its maxima are at `omax + 2kπ` and minima at `omin + 2kπ`.
-fn trig_part(a: Interval, nan: bool, fl: f64, fh: f64, omax: f64, omin: f64) -> Interval {
-    let (has_max, has_min) = (hits(a, omax, 2.0 * PI), hits(a, omin, 2.0 * PI));
+/// A sine-like function over an interval from its values `fl`, `fh` at
+/// the ends, and whether the interval holds a maximum / a minimum.
+fn trig_part(nan: bool, fl: f64, fh: f64, has_max: bool, has_min: bool) -> Interval {
     if has_max && has_min {
         // Both extremes inside: the ends do not matter.
         return make(-1.0, 1.0, nan);
@@ -1294,6 +1326,22 @@ enum Op {
     SinCos(u32, u32, u32),
 }
 
+/// The bit of input `x[k]` in a mask of inputs: `x`, `y` and `z` one each,
+/// every other input (extra coordinates, parameters) the fourth.
+fn input_bit(k: u32) -> u8 {
+    if k < 3 {
+        1 << k
+    } else {
+        OTHER_INPUTS
+    }
+}
+
+/// The bit of every input but `x`, `y` and `z` (see [`input_bit`]).
+const OTHER_INPUTS: u8 = 1 << 3;
+
+/// Every input's bit.
+const ALL_INPUTS: u8 = 0b1111;
+
 /// An operation and the node it computes.
 #[derive(Clone, Copy, Debug)]
 struct Instr {
@@ -1344,6 +1392,15 @@ pub struct IntervalEval {
     leaves: Vec<(u32, Node)>,
     blends: Vec<[u32; 5]>,
     regs: Regs,
+    /// Per operation of `code`, the inputs it depends on ([`input_bit`]).
+    deps: Vec<u8>,
+    /// Per set of changed inputs (a mask of [`input_bit`]s, neither empty
+    /// nor all), the operations of `code` that depend on one of them, built
+    /// when first needed. Every node has a register of its own, so the
+    /// others still hold their values from the last evaluation.
+    partial: Vec<Option<Box<[Instr]>>>,
+    /// Whether an evaluation has set every register.
+    primed: bool,
     /// The intervals of the last evaluation, once asked for.
     values: OnceLock<Vec<Interval>>,
     /// The choices of the last evaluation, once asked for.
@@ -1360,6 +1417,9 @@ impl Clone for IntervalEval {
             leaves: self.leaves.clone(),
             blends: self.blends.clone(),
             regs: self.regs.clone(),
+            deps: self.deps.clone(),
+            partial: self.partial.clone(),
+            primed: self.primed,
             values: self.values.clone(),
             choices: self.choices.clone(),
             spare: Mutex::default(),
@@ -1448,12 +1508,32 @@ impl IntervalEval {
             };
             code.push(Instr { op, out: i as u32 });
         }
+        // Which inputs each node depends on.
+        let mut node_deps = vec![0u8; n];
+        for (i, node) in tape.nodes.iter().enumerate() {
+            node_deps[i] = match *node {
+                Node::X(k) => input_bit(k),
+                Node::Param(_) => OTHER_INPUTS,
+                _ => node.children().fold(0, |m, c| m | node_deps[c.index()]),
+            };
+        }
+        let deps = code
+            .iter()
+            .map(|ins| match ins.op {
+                // The pair's argument (`out` is one of the two results).
+                Op::SinCos(a, _, _) => node_deps[a as usize],
+                _ => node_deps[ins.out as usize],
+            })
+            .collect();
         IntervalEval {
             tape: tape.clone(),
             code,
             leaves,
             blends,
             regs,
+            deps,
+            partial: vec![None; ALL_INPUTS as usize],
+            primed: false,
             values: OnceLock::new(),
             choices: OnceLock::new(),
             spare: Mutex::default(),
@@ -1527,18 +1607,43 @@ impl IntervalEval {
             spare.1 = c;
         }
         let v = &mut self.regs;
+        // The inputs that differ from the last evaluation's (bit for bit).
+        let mut changed = 0u8;
         for &(i, node) in &self.leaves {
-            let r = match node {
-                Node::X(0) => x,
-                Node::X(1) => y,
-                Node::X(2) => z,
-                Node::X(k) => Interval::point(inputs.extra_x(k)),
-                Node::Param(k) => Interval::point(inputs.param(k)),
+            let (r, bit) = match node {
+                Node::X(0) => (x, input_bit(0)),
+                Node::X(1) => (y, input_bit(1)),
+                Node::X(2) => (z, input_bit(2)),
+                Node::X(k) => (Interval::point(inputs.extra_x(k)), OTHER_INPUTS),
+                Node::Param(k) => (Interval::point(inputs.param(k)), OTHER_INPUTS),
                 _ => unreachable!("not an input leaf"),
             };
+            let old = v.get(i);
+            if (old.lo.to_bits(), old.hi.to_bits(), old.nan)
+                != (r.lo.to_bits(), r.hi.to_bits(), r.nan)
+            {
+                changed |= bit;
+            }
             v.set(i as usize, r);
         }
-        for ins in &self.code {
+        // Only the operations that depend on a changed input run; the
+        // others' registers hold what they would compute.
+        let code: &[Instr] = if !self.primed || changed == ALL_INPUTS {
+            self.primed = true;
+            &self.code
+        } else if changed == 0 {
+            &[]
+        } else {
+            let (code, deps) = (&self.code, &self.deps);
+            self.partial[changed as usize].get_or_insert_with(|| {
+                code.iter()
+                    .zip(deps)
+                    .filter(|&(_, &d)| d & changed != 0)
+                    .map(|(ins, _)| *ins)
+                    .collect()
+            })
+        };
+        for ins in code {
             let out = ins.out as usize;
             let g = |i: u32| v.get(i);
             match ins.op {
@@ -1752,6 +1857,67 @@ mod tests {
             let tape = g.tape(&[out]);
             let (lo, hi) = corners_of(c, h);
             check_contains(&tape, lo, hi, &pts, &Inputs::with_params(&[a0]));
+        }
+
+        #[test]
+        fn reevaluation_equals_a_fresh_evaluation(
+            ins in instrs(24),
+            seq in prop::collection::vec((boxes(), 0u8..16, constant()), 2..8),
+        ) {
+            // Boxes in a row, each keeping some of the last one's inputs
+            // (bits of `keep`: x, y, z, the parameter): only the operations
+            // of the changed ones run again, and every node's interval and
+            // choice must be what a fresh evaluator gives.
+            let mut g = Graph::new();
+            let out = build_random(&mut g, &ins);
+            let tape = g.tape(&[out]);
+            let mut ev = IntervalEval::new(&tape);
+            let (mut b, mut a0) = (ivs([0.0; 3], [0.0; 3]), 0.0);
+            for (k, ((c, h), keep, p)) in seq.into_iter().enumerate() {
+                let (lo, hi) = corners_of(c, h);
+                let nb = ivs(lo, hi);
+                for j in 0..3 {
+                    if k == 0 || keep & (1 << j) == 0 {
+                        b[j] = nb[j];
+                    }
+                }
+                if k == 0 || keep & 8 == 0 {
+                    a0 = p;
+                }
+                let inputs = Inputs::with_params(&[a0]);
+                ev.eval(b[0], b[1], b[2], &inputs);
+                let mut fresh = IntervalEval::new(&tape);
+                fresh.eval(b[0], b[1], b[2], &inputs);
+                let bits = |v: &[Interval]| -> Vec<(u64, u64, bool)> {
+                    v.iter().map(|i| (i.lo.to_bits(), i.hi.to_bits(), i.nan)).collect()
+                };
+                prop_assert_eq!(bits(ev.intervals()), bits(fresh.intervals()), "box {}", k);
+                prop_assert_eq!(ev.choices(), fresh.choices(), "box {}", k);
+            }
+        }
+
+        #[test]
+        fn extremes_from_the_reduction_equal_those_by_division(
+            lo in -2000.0..2000.0f64,
+            w in prop_oneof![
+                2 => 0.0..1e-6f64,
+                4 => 0.0..2.0f64,
+                4 => 1.0..7.0f64,
+            ],
+            near in any::<bool>(),
+            k in -1000i32..1000,
+            d in -1e-6..1e-6f64,
+        ) {
+            // Either end may sit next to a multiple of π/2.
+            let lo = if near { f64::from(k) * FRAC_PI_2 + d } else { lo };
+            for a in [iv(lo, lo + w), iv(lo - w, lo)] {
+                let t = simd_math::sin_cos_ends(a.lo, a.hi).unwrap();
+                let m = extreme_margin(a);
+                let want = [0.0, FRAC_PI_2, PI, -FRAC_PI_2].map(|off| hits(a, off, 2.0 * PI));
+                prop_assert_eq!(quarter_extremes(&t, m), want, "{:?}", a);
+                let (s, c) = simd_math::sin_cos(a.lo);
+                prop_assert_eq!((t.sin[0], t.cos[0]), (s, c));
+            }
         }
 
         #[test]

@@ -183,10 +183,11 @@ const C4: f64 = hex(0xBE927E4F, 0x809C52AD);
 const C5: f64 = hex(0x3E21EE9E, 0xBDB4B1C4);
 const C6: f64 = hex(0xBDA8FAE9, 0xBE8838D4);
 
-/// `x - k·π/2` as `y0 + y1` (|y0| ≲ π/4) and the quadrant `k mod 4`, for
-/// |x| < 2^20·π/2 (outside, the result is meaningless but finite or NaN).
+/// `x - k·π/2` as `y0 + y1` (|y0| ≲ π/4), `k` (a whole float) and the
+/// quadrant `k mod 4`, for |x| < 2^20·π/2 (outside, the result is
+/// meaningless but finite or NaN).
 #[inline(always)]
-fn rem_pio2(x: f64) -> (f64, f64, u64) {
+fn rem_pio2(x: f64) -> (f64, f64, f64, u64) {
     // Outside the range, reduce 0 instead (the lane is recomputed later);
     // keeps the magic rounding valid.
     let xr = sel(x.abs() <= TRIG_LIMIT, x, 0.0);
@@ -206,7 +207,7 @@ fn rem_pio2(x: f64) -> (f64, f64, u64) {
     let w = kf * PIO2_3T - e3 - e2;
     let y0 = r - w;
     let y1 = (r - y0) - w;
-    (y0, y1, kb & 3)
+    (y0, y1, kf, kb & 3)
 }
 
 #[inline(always)]
@@ -231,14 +232,24 @@ fn k_cos(x: f64, y: f64) -> f64 {
 /// `(sin x, cos x)` for |x| <= [`TRIG_LIMIT`] (other lanes: garbage).
 #[inline(always)]
 fn sincos_core(x: f64) -> (f64, f64) {
-    let (y0, y1, q) = rem_pio2(x);
+    let (s, c, _, _) = sincos_quarter(x);
+    (s, c)
+}
+
+/// [`sincos_core`], with where `x` lies among the multiples of π/2: `x ≈
+/// k·π/2 + r` with `k` a whole number and `|r| ≲ π/4`, returned as
+/// `(sin x, cos x, k, r)` (`r` the reduced argument's leading part, within
+/// an ulp of `x`'s size of the true `x − k·π/2`).
+#[inline(always)]
+fn sincos_quarter(x: f64) -> (f64, f64, f64, f64) {
+    let (y0, y1, kf, q) = rem_pio2(x);
     let s = k_sin(y0, y1);
     let c = k_cos(y0, y1);
     let swap = q & 1 != 0;
     let (s1, c1) = (sel(swap, c, s), sel(swap, s, c));
     let s_neg = q & 2 != 0;
     let c_neg = (q + 1) & 2 != 0;
-    (sel(s_neg, -s1, s1), sel(c_neg, -c1, c1))
+    (sel(s_neg, -s1, s1), sel(c_neg, -c1, c1), kf, y0)
 }
 
 #[inline(always)]
@@ -275,6 +286,40 @@ pub fn sin_cos(x: f64) -> (f64, f64) {
     } else {
         (x.sin(), x.cos())
     }
+}
+
+/// `sin` and `cos` at the two ends of an interval, for the interval
+/// evaluator: the values exactly as [`sin_cos`] gives them, and where each
+/// end lies among the multiples of π/2 (the extremes of both functions).
+/// `None` where an end is beyond [`TRIG_LIMIT`] or not finite.
+#[inline]
+pub fn sin_cos_ends(lo: f64, hi: f64) -> Option<TrigEnds> {
+    if !(trig_in_range(lo) && trig_in_range(hi)) {
+        return None;
+    }
+    let (s0, c0, k0, r0) = sincos_quarter(lo);
+    let (s1, c1, k1, r1) = sincos_quarter(hi);
+    Some(TrigEnds {
+        sin: [s0, s1],
+        cos: [c0, c1],
+        k: [k0, k1],
+        r: [r0, r1],
+    })
+}
+
+/// See [`sin_cos_ends`]: per end, `sin` and `cos`, and `x ≈ k·π/2 + r`
+/// with `k` a whole number (as a float) and `|r| ≲ π/4`, `r` within an ulp
+/// of `x`'s size of the true remainder.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TrigEnds {
+    /// `sin` of each end.
+    pub sin: [f64; 2],
+    /// `cos` of each end.
+    pub cos: [f64; 2],
+    /// Per end, the whole number `k` nearest `x / (π/2)`.
+    pub k: [f64; 2],
+    /// Per end, `x − k·π/2`.
+    pub r: [f64; 2],
 }
 
 #[inline(always)]
