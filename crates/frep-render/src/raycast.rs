@@ -91,7 +91,7 @@ use rayon::prelude::*;
 
 use crate::camera::{dot, sub, Aabb, Camera, Projection, RayMaker};
 use crate::image::{Hit, HitBuffer, Image, Lighting, Shader};
-use crate::tiles::{cast_tiled, tiles, Tile, TileCaster};
+use crate::tiles::{cast_tiled, tile_rows, tiles, Tile, TileCaster};
 
 /// An interval evaluation costs about this many point evaluations (in a
 /// batch) of the same tape.
@@ -2195,69 +2195,52 @@ pub fn render_with(
     check_size(w, h)?;
     let shader = Shader::new(camera, &settings.lighting, w, h);
     let ts = tiles(w, h, settings.tile_size.max(1));
-    // Per tile its shaded pixels, or `None` where no ray hit (the rows
-    // are then the background: nothing to shade). The hit buffer is kept
-    // per worker, from tile to tile, and cleared only after a tile with a
-    // hit (the caster writes nothing where no ray hits).
-    let shaded: Vec<(Tile, Option<Vec<u8>>)> = ts
-        .into_par_iter()
-        .map_init(
-            || (None::<BatchEval>, Vec::<Option<Hit>>::new(), false),
-            |(ao_eval, hits, dirty), t| {
-                let n = (t.w() * t.h()) as usize;
-                if *dirty || hits.len() != n {
-                    hits.clear();
-                    hits.resize(n, None);
-                }
-                *dirty = caster.cast_tile_hits(camera, &t, hits);
-                if !*dirty {
-                    return (t, None);
-                }
-                let mut ao = Vec::new();
-                if settings.ao {
-                    ao.resize(n, 1.0);
-                    let ev = ao_eval.get_or_insert_with(|| BatchEval::new(&caster.tape));
-                    ambient_occlusion(ev, caster, hits, &mut ao);
-                }
-                let mut rgba = vec![255u8; n * 4];
-                let tw = t.w() as usize;
-                for (r, y) in (t.y0..t.y1).enumerate() {
-                    let row = r * tw..(r + 1) * tw;
-                    let a = (!ao.is_empty()).then(|| &ao[row.clone()]);
-                    shader.span(
-                        y,
-                        &hits[row.clone()],
-                        a,
-                        &mut rgba[row.start * 4..row.end * 4],
-                    );
-                }
-                (t, Some(rgba))
-            },
-        )
-        .collect();
-    if is_cancelled(cancel) {
-        return Err(RenderError::Cancelled);
-    }
     let mut img = Image {
         width: w,
         height: h,
         rgba: vec![0; w as usize * h as usize * 4],
     };
-    for (t, rgba) in shaded {
-        let tw = t.w() as usize * 4;
-        for row in 0..t.h() as usize {
-            let d = ((t.y0 as usize + row) * w as usize + t.x0 as usize) * 4;
-            let dst = &mut img.rgba[d..d + tw];
-            match &rgba {
-                Some(rgba) => dst.copy_from_slice(&rgba[row * tw..(row + 1) * tw]),
-                None => {
-                    let bg = shader.background(t.y0 + row as u32);
-                    for px in dst.chunks_exact_mut(4) {
+    // Each tile is shaded straight into its rows of the image, or filled
+    // with the background where no ray hit (nothing to shade). The hit
+    // buffer is kept per worker, from tile to tile, and cleared only after
+    // a tile with a hit (the caster writes nothing where no ray hits).
+    let rows = tile_rows(&mut img.rgba, w as usize, 4, &ts);
+    ts.into_par_iter().zip(rows).for_each_init(
+        || (None::<BatchEval>, Vec::<Option<Hit>>::new(), false),
+        |(ao_eval, hits, dirty), (t, mut rows)| {
+            let n = (t.w() * t.h()) as usize;
+            if *dirty || hits.len() != n {
+                hits.clear();
+                hits.resize(n, None);
+            }
+            *dirty = caster.cast_tile_hits(camera, &t, hits);
+            if !*dirty {
+                for (row, y) in rows.iter_mut().zip(t.y0..) {
+                    let bg = shader.background(y);
+                    for px in row.chunks_exact_mut(4) {
                         px.copy_from_slice(&[bg[0], bg[1], bg[2], 255]);
                     }
                 }
+                return;
             }
-        }
+            let mut ao = Vec::new();
+            if settings.ao {
+                ao.resize(n, 1.0);
+                let ev = ao_eval.get_or_insert_with(|| BatchEval::new(&caster.tape));
+                ambient_occlusion(ev, caster, hits, &mut ao);
+            }
+            let tw = t.w() as usize;
+            for ((r, row), y) in rows.iter_mut().enumerate().zip(t.y0..) {
+                let span = r * tw..(r + 1) * tw;
+                let a = (!ao.is_empty()).then(|| &ao[span.clone()]);
+                // Opaque: `span` writes the colours only.
+                row.fill(255);
+                shader.span(y, &hits[span], a, row);
+            }
+        },
+    );
+    if is_cancelled(cancel) {
+        return Err(RenderError::Cancelled);
     }
     Ok(img)
 }

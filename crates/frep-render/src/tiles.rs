@@ -61,6 +61,46 @@ pub fn tiles(width: u32, height: u32, size: u32) -> Vec<Tile> {
     out
 }
 
+/// Splits a row-major `width`-pixel image buffer (`per_px` elements per
+/// pixel) into the rows of each tile of `tiles` (as [`tiles`] cuts it:
+/// row by row from the top-left, one size): per tile, its rows' slices,
+/// top to bottom. Lets workers write their tiles straight into the image.
+///
+/// # Panics
+/// If `tiles` is not such a cut of a `width`-wide image that `buf` holds.
+pub fn tile_rows<'a, T>(
+    buf: &'a mut [T],
+    width: usize,
+    per_px: usize,
+    tiles: &[Tile],
+) -> Vec<Vec<&'a mut [T]>> {
+    let mut out: Vec<Vec<&'a mut [T]>> = tiles
+        .iter()
+        .map(|t| Vec::with_capacity(t.h() as usize))
+        .collect();
+    let Some(first) = tiles.first() else {
+        return out;
+    };
+    let size = first.w().max(first.h()) as usize;
+    let across = width.div_ceil(size.max(1));
+    for (y, row) in buf.chunks_exact_mut(width * per_px).enumerate() {
+        let band = y / size.max(1);
+        let mut rest = row;
+        for c in 0..across {
+            let i = band * across + c;
+            let t = &tiles[i];
+            assert!(
+                t.y0 as usize <= y && y < t.y1 as usize && t.x0 as usize == c * size,
+                "tile_rows: tiles not cut row by row"
+            );
+            let (seg, r) = std::mem::take(&mut rest).split_at_mut(t.w() as usize * per_px);
+            out[i].push(seg);
+            rest = r;
+        }
+    }
+    out
+}
+
 /// Something that finds ray hits for a tile of pixels: the ray caster.
 pub trait TileCaster: Sync {
     /// Casts the rays of `tile` (pixel centres, see [`Camera::ray`]) and writes
@@ -121,6 +161,32 @@ mod tests {
         assert_eq!(area, 70 * 33);
         assert_eq!(ts.last().unwrap().x1, 70);
         assert_eq!(ts.last().unwrap().y1, 33);
+    }
+
+    #[test]
+    fn tile_rows_are_the_tiles_pixels() {
+        for (w, h, size) in [(70u32, 33u32, 16u32), (8, 8, 8), (9, 1, 4), (1, 5, 2)] {
+            let ts = tiles(w, h, size);
+            let mut buf: Vec<(u32, u32, u8)> = (0..h)
+                .flat_map(|y| (0..w).flat_map(move |x| [(x, y, 0), (x, y, 1)]))
+                .collect();
+            let rows = tile_rows(&mut buf, w as usize, 2, &ts);
+            assert_eq!(rows.len(), ts.len());
+            for (t, rows) in ts.iter().zip(rows) {
+                assert_eq!(rows.len(), t.h() as usize);
+                for (r, row) in rows.into_iter().enumerate() {
+                    let want: Vec<(u32, u32, u8)> = (t.x0..t.x1)
+                        .flat_map(|x| [(x, t.y0 + r as u32, 0), (x, t.y0 + r as u32, 1)])
+                        .collect();
+                    assert_eq!(&row[..], &want[..], "{w}x{h}/{size}: tile {t:?} row {r}");
+                    for px in row.chunks_mut(2) {
+                        px[0].2 = 9;
+                    }
+                }
+            }
+            // Every pixel's first element was written once, through its tile.
+            assert!(buf.chunks(2).all(|p| p[0].2 == 9 && p[1].2 == 1));
+        }
     }
 
     #[test]

@@ -551,10 +551,16 @@ fn lines_along_an_axis_equal_points() {
                 up,
                 frep_render::camera::Projection::Orthographic { half_extent: 1.0 },
             );
+            // One thread: the work counted depends on the order tiles meet
+            // a worker's scratch (its pruning odds); the hits do not.
+            let one = rayon::ThreadPoolBuilder::new()
+                .num_threads(1)
+                .build()
+                .unwrap();
             let cast = |lines: bool| {
                 let mut c = ModelCaster::new(&model, Inputs::default(), b);
                 c.lines = lines;
-                let hits = cast_tiled(&c, &cam, 72, 64, 16);
+                let hits = one.install(|| cast_tiled(&c, &cam, 72, 64, 16));
                 (hits, c.stats())
             };
             let (on, on_st) = cast(true);
