@@ -111,6 +111,78 @@ fn picked(node: &Node, pick: Pick) -> Option<NodeId> {
     }
 }
 
+/// The parts of a tape's [`Choice`]s that [`simplify`] can read, for
+/// callers that cache simplified tapes by their choices: two choice lists
+/// equal under [`ChoiceMask::apply`] give the same simplified tape, so the
+/// masked list is the better key (the signs of nodes that are never used
+/// for their sign alone vary from box to box and change nothing).
+#[derive(Clone, Debug)]
+pub struct ChoiceMask {
+    /// Per node, whether it may be used only for its sign (then its
+    /// `sign` and `decided` are read; otherwise only `exact`).
+    sign_context: Vec<bool>,
+}
+
+impl ChoiceMask {
+    /// The mask of `tape` simplified in `mode`.
+    pub fn new(tape: &Tape, mode: SimplifyMode) -> ChoiceMask {
+        let n = tape.len();
+        let mut may = vec![false; n];
+        if mode == SimplifyMode::Sign {
+            if let Some(o) = tape.outputs.first() {
+                may[o.index()] = true;
+            }
+        }
+        // Parents before children. A node may be used for its sign alone
+        // only through a parent that may be: as an argument it uses for its
+        // sign, or as the argument a decided parent reduces to (a branch of
+        // `and`/`or`, the value of a `Check`); over-approximated, since
+        // which parents stay live depends on the choices.
+        for i in (0..n).rev() {
+            if !may[i] {
+                continue;
+            }
+            let node = &tape.nodes[i];
+            for (pos, ch) in node.children().enumerate() {
+                let alias = match node {
+                    Node::Binary(BinaryOp::And | BinaryOp::Or, ..) => true,
+                    Node::Check(..) => pos == 1,
+                    _ => false,
+                };
+                if alias || is_sign_use(node, pos) {
+                    may[ch.index()] = true;
+                }
+            }
+        }
+        ChoiceMask { sign_context: may }
+    }
+
+    /// `choices` with what [`simplify`] does not read set to the default
+    /// (`sign`: [`Pick::Both`], `decided`: [`Decided::No`]), into `out`.
+    ///
+    /// # Panics
+    /// If `choices` is not of this mask's tape (another length).
+    pub fn apply(&self, choices: &[Choice], out: &mut Vec<Choice>) {
+        assert_eq!(
+            choices.len(),
+            self.sign_context.len(),
+            "choices of another tape"
+        );
+        out.clear();
+        out.extend(choices.iter().zip(&self.sign_context).map(|(&c, &sign)| {
+            if sign {
+                c
+            } else {
+                Choice {
+                    exact: c.exact,
+                    sign: Pick::Both,
+                    decided: Decided::No,
+                }
+            }
+        }));
+    }
+}
+
 /// The tape shortened for the region `choices` were computed over (see the
 /// module docs). `choices` must come from an evaluation of this very tape.
 pub fn simplify(tape: &Tape, choices: &[Choice], mode: SimplifyMode) -> Tape {
@@ -365,6 +437,31 @@ mod tests {
                 let (f, s) = (eval_point(&tape, p, &inputs), eval_point(&simp, p, &inputs));
                 prop_assert!(f.to_bits() == s.to_bits() || (f.is_nan() && s.is_nan()),
                     "at {:?}: {} vs {}\n{:?}\n{:?}", p, f, s, tape, simp);
+            }
+        }
+
+        #[test]
+        fn masked_choices_simplify_alike(
+            t in csg(true),
+            ins in instrs(24),
+            (c, h) in boxes(),
+            a0 in constant(),
+        ) {
+            // What the mask drops changes no simplified tape, in either
+            // mode, on CSG trees and on random tapes.
+            for random in [false, true] {
+                let mut g = Graph::new();
+                let out = if random { build_random(&mut g, &ins) } else { build_csg(&mut g, &t) };
+                let tape = g.tape(&[out]);
+                let (lo, hi) = corners_of(c, h);
+                let mut ev = IntervalEval::new(&tape);
+                let [x, y, z] = boxed(lo, hi);
+                ev.eval(x, y, z, &Inputs::with_params(&[a0]));
+                for mode in [SimplifyMode::Sign, SimplifyMode::Exact] {
+                    let mut masked = Vec::new();
+                    ChoiceMask::new(&tape, mode).apply(ev.choices(), &mut masked);
+                    prop_assert_eq!(simplify(&tape, ev.choices(), mode), simplify(&tape, &masked, mode));
+                }
             }
         }
 

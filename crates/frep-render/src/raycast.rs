@@ -85,7 +85,7 @@ use frep_core::eval::batch::{BatchEval, GradRegs, LANES};
 use frep_core::eval::grad::Grad;
 use frep_core::eval::interval::{Choice, Interval, IntervalEval};
 use frep_core::eval::Inputs;
-use frep_core::simplify::{simplify_with_stats, SimplifyMode};
+use frep_core::simplify::{simplify_with_stats, ChoiceMask, SimplifyMode};
 use frep_core::{Model, Tape};
 use rayon::prelude::*;
 
@@ -348,6 +348,9 @@ struct Evals {
     /// Whether [`SimplifyMode::Sign`] can ever shorten the tape (see
     /// [`may_shorten`]).
     shortens: bool,
+    /// What of the interval choices simplifying can read: the key of the
+    /// cache of shortened tapes.
+    mask: ChoiceMask,
     interval: IntervalEval,
     batch: Option<BatchEval>,
 }
@@ -357,6 +360,7 @@ impl Evals {
         Evals {
             interval: IntervalEval::new(&tape),
             shortens: may_shorten(&tape),
+            mask: ChoiceMask::new(&tape, SimplifyMode::Sign),
             tape,
             batch: None,
         }
@@ -428,6 +432,9 @@ struct Scratch {
     by_tape: HashMap<u64, Vec<u32>>,
     /// Estimated bytes of `evals`.
     bytes: usize,
+    /// The masked choices of the box being shortened (see
+    /// [`TileCtx::shorten`]).
+    choices: Vec<Choice>,
     attr: Option<BatchEval>,
     rays: Vec<RayInfo>,
     /// Per ray, its depth range `[z0s, z1s]` while it is live and
@@ -515,6 +522,7 @@ impl Scratch {
             children: HashMap::new(),
             by_tape: HashMap::new(),
             bytes: tape.len() * NODE_BYTES,
+            choices: Vec::new(),
             attr: None,
             rays: Vec::new(),
             z0s: Vec::new(),
@@ -1144,17 +1152,21 @@ impl<'a> TileCtx<'a> {
         if ev.tape.len() <= 4 || !ev.shortens {
             return e;
         }
-        let choices = ev.interval.choices();
-        let h = choices_hash(e, choices);
+        let mut choices = std::mem::take(&mut sc.choices);
+        ev.mask.apply(ev.interval.choices(), &mut choices);
+        let h = choices_hash(e, &choices);
         if let Some(bucket) = sc.children.get(&h) {
             for (p, key, child) in bucket {
                 if *p as usize == e && key[..] == choices[..] {
-                    return *child as usize;
+                    let child = *child as usize;
+                    sc.choices = choices;
+                    return child;
                 }
             }
         }
-        let (t, st) = simplify_with_stats(&ev.tape, choices, SimplifyMode::Sign);
-        let key: Box<[Choice]> = choices.into();
+        let (t, st) = simplify_with_stats(&ev.tape, &choices, SimplifyMode::Sign);
+        let key: Box<[Choice]> = choices[..].into();
+        sc.choices = choices;
         let child = if st.after < st.before {
             let th = tape_hash(&t);
             let same = sc
