@@ -41,7 +41,7 @@
 //! of very different magnitudes cancels), the simplified tape can give the
 //! true sign where the full one gives 0.
 
-use crate::eval::interval::{Choice, Decided, Pick};
+use crate::eval::interval::{Choice, Decided, IntervalEval, Pick};
 use crate::graph::{Node, NodeId, Tape};
 use crate::ops::{BinaryOp, UnaryOp};
 use std::collections::HashMap;
@@ -112,15 +112,23 @@ fn picked(node: &Node, pick: Pick) -> Option<NodeId> {
 }
 
 /// The parts of a tape's [`Choice`]s that [`simplify`] can read, for
-/// callers that cache simplified tapes by their choices: two choice lists
-/// equal under [`ChoiceMask::apply`] give the same simplified tape, so the
-/// masked list is the better key (the signs of nodes that are never used
-/// for their sign alone vary from box to box and change nothing).
+/// callers that cache simplified tapes by their choices: the [`key`] of an
+/// evaluation holds only those, and [`expand`] turns it back into choices
+/// that simplify to the same tape as the evaluation's own. The signs of
+/// nodes that are never used for their sign alone vary from box to box and
+/// change nothing, and most nodes (arithmetic) have nothing to choose.
+///
+/// [`key`]: ChoiceMask::key
+/// [`expand`]: ChoiceMask::expand
 #[derive(Clone, Debug)]
 pub struct ChoiceMask {
     /// Per node, whether it may be used only for its sign (then its
     /// `sign` and `decided` are read; otherwise only `exact`).
     sign_context: Vec<bool>,
+    /// The nodes whose choice can differ from the default: those that may
+    /// be used for their sign alone, and those that can pick an argument or
+    /// a branch or be a decided boolean. In order.
+    nodes: Vec<u32>,
 }
 
 impl ChoiceMask {
@@ -154,32 +162,70 @@ impl ChoiceMask {
                 }
             }
         }
-        ChoiceMask { sign_context: may }
+        // Which nodes can choose (see `choice_of` in the interval
+        // evaluator): the others' `exact` is always `Both`.
+        let chooses = |node: &Node| match node {
+            Node::Binary(op, ..) => matches!(
+                op,
+                BinaryOp::Min
+                    | BinaryOp::Max
+                    | BinaryOp::RUnion
+                    | BinaryOp::RInter
+                    | BinaryOp::RDiff
+                    | BinaryOp::And
+                    | BinaryOp::Or
+                    | BinaryOp::Lt
+                    | BinaryOp::Gt
+                    | BinaryOp::Le
+                    | BinaryOp::Ge
+                    | BinaryOp::Eq
+                    | BinaryOp::Ne
+            ),
+            Node::Unary(UnaryOp::Not, _) | Node::Select(..) | Node::Check(..) => true,
+            _ => false,
+        };
+        let nodes = (0..n)
+            .filter(|&i| may[i] || chooses(&tape.nodes[i]))
+            .map(|i| i as u32)
+            .collect();
+        ChoiceMask {
+            sign_context: may,
+            nodes,
+        }
     }
 
-    /// `choices` with what [`simplify`] does not read set to the default
-    /// (`sign`: [`Pick::Both`], `decided`: [`Decided::No`]), into `out`.
-    ///
-    /// # Panics
-    /// If `choices` is not of this mask's tape (another length).
-    pub fn apply(&self, choices: &[Choice], out: &mut Vec<Choice>) {
-        assert_eq!(
-            choices.len(),
-            self.sign_context.len(),
-            "choices of another tape"
-        );
+    /// The key of `ev`'s last evaluation (`ev` of this mask's tape): the
+    /// choices of the nodes that can matter, with what [`simplify`] does
+    /// not read set to the default (`sign`: [`Pick::Both`], `decided`:
+    /// [`Decided::No`]), into `out`.
+    pub fn key(&self, ev: &IntervalEval, out: &mut Vec<Choice>) {
         out.clear();
-        out.extend(choices.iter().zip(&self.sign_context).map(|(&c, &sign)| {
-            if sign {
+        out.extend(self.nodes.iter().map(|&i| {
+            let c = ev.choice(i as usize);
+            if self.sign_context[i as usize] {
                 c
             } else {
                 Choice {
                     exact: c.exact,
-                    sign: Pick::Both,
-                    decided: Decided::No,
+                    ..Choice::default()
                 }
             }
         }));
+    }
+
+    /// Choices for [`simplify`] from a [`key`](ChoiceMask::key): the key's
+    /// at its nodes, the default elsewhere, into `out`. They simplify the
+    /// tape as the evaluation's own choices do.
+    ///
+    /// # Panics
+    /// If `key` is not of this mask (another length).
+    pub fn expand(&self, key: &[Choice], out: &mut Vec<Choice>) {
+        assert_eq!(key.len(), self.nodes.len(), "key of another mask");
+        out.clear();
+        out.resize(self.sign_context.len(), Choice::default());
+        for (&i, &c) in self.nodes.iter().zip(key) {
+            out[i as usize] = c;
+        }
     }
 }
 
@@ -447,8 +493,9 @@ mod tests {
             (c, h) in boxes(),
             a0 in constant(),
         ) {
-            // What the mask drops changes no simplified tape, in either
-            // mode, on CSG trees and on random tapes.
+            // What the key drops changes no simplified tape, in either
+            // mode, on CSG trees and on random tapes; the nodes left out
+            // have the default choice, and those kept their own.
             for random in [false, true] {
                 let mut g = Graph::new();
                 let out = if random { build_random(&mut g, &ins) } else { build_csg(&mut g, &t) };
@@ -458,9 +505,17 @@ mod tests {
                 let [x, y, z] = boxed(lo, hi);
                 ev.eval(x, y, z, &Inputs::with_params(&[a0]));
                 for mode in [SimplifyMode::Sign, SimplifyMode::Exact] {
-                    let mut masked = Vec::new();
-                    ChoiceMask::new(&tape, mode).apply(ev.choices(), &mut masked);
-                    prop_assert_eq!(simplify(&tape, ev.choices(), mode), simplify(&tape, &masked, mode));
+                    let mask = ChoiceMask::new(&tape, mode);
+                    let (mut key, mut full) = (Vec::new(), Vec::new());
+                    mask.key(&ev, &mut key);
+                    mask.expand(&key, &mut full);
+                    prop_assert_eq!(simplify(&tape, ev.choices(), mode), simplify(&tape, &full, mode));
+                    for (i, (f, c)) in full.iter().zip(ev.choices()).enumerate() {
+                        prop_assert_eq!(f.exact, c.exact, "node {}", i);
+                        if mask.sign_context[i] {
+                            prop_assert_eq!(f, c, "node {}", i);
+                        }
+                    }
                 }
             }
         }

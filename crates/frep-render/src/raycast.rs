@@ -348,7 +348,7 @@ struct Evals {
     /// Whether [`SimplifyMode::Sign`] can ever shorten the tape (see
     /// [`may_shorten`]).
     shortens: bool,
-    /// What of the interval choices simplifying can read: the key of the
+    /// What of the interval choices simplifying can read: the keys of the
     /// cache of shortened tapes.
     mask: ChoiceMask,
     interval: IntervalEval,
@@ -414,7 +414,8 @@ const CACHE_BYTES: usize = 6 << 20;
 /// evaluator's values), roughly.
 const NODE_BYTES: usize = 160;
 
-/// (parent evaluator, interval choices, child evaluator).
+/// (parent evaluator, the key of its interval choices ([`ChoiceMask::key`]),
+/// child evaluator).
 type ChildEntry = (u32, Box<[Choice]>, u32);
 
 /// Per-thread state of the caster, reused from tile to tile: the evaluators
@@ -432,7 +433,7 @@ struct Scratch {
     by_tape: HashMap<u64, Vec<u32>>,
     /// Estimated bytes of `evals`.
     bytes: usize,
-    /// The masked choices of the box being shortened (see
+    /// The key of the box being shortened, then its choices (see
     /// [`TileCtx::shorten`]).
     choices: Vec<Choice>,
     attr: Option<BatchEval>,
@@ -1153,7 +1154,7 @@ impl<'a> TileCtx<'a> {
             return e;
         }
         let mut choices = std::mem::take(&mut sc.choices);
-        ev.mask.apply(ev.interval.choices(), &mut choices);
+        ev.mask.key(&ev.interval, &mut choices);
         let h = choices_hash(e, &choices);
         if let Some(bucket) = sc.children.get(&h) {
             for (p, key, child) in bucket {
@@ -1164,8 +1165,9 @@ impl<'a> TileCtx<'a> {
                 }
             }
         }
-        let (t, st) = simplify_with_stats(&ev.tape, &choices, SimplifyMode::Sign);
         let key: Box<[Choice]> = choices[..].into();
+        ev.mask.expand(&key, &mut choices);
+        let (t, st) = simplify_with_stats(&ev.tape, &choices, SimplifyMode::Sign);
         sc.choices = choices;
         let child = if st.after < st.before {
             let th = tape_hash(&t);

@@ -1589,9 +1589,18 @@ impl IntervalEval {
             let mut c = std::mem::take(&mut self.spare().1);
             c.clear();
             let nodes = &self.tape.nodes;
-            c.extend((0..nodes.len()).map(|i| choice_of(nodes, values, i)));
+            c.extend((0..nodes.len()).map(|i| choice_of(nodes, |k| values[k], i)));
             c
         })
+    }
+
+    /// Node `i`'s [`Choice`] from the last evaluation, as
+    /// [`choices`](IntervalEval::choices)`()[i]` (computed alone).
+    ///
+    /// # Panics
+    /// If `i` is not a node of the tape.
+    pub fn choice(&self, i: usize) -> Choice {
+        choice_of(&self.tape.nodes, |k| self.regs.get(k as u32), i)
     }
 
     fn spare(&self) -> std::sync::MutexGuard<'_, (Vec<Interval>, Vec<Choice>)> {
@@ -1687,11 +1696,13 @@ fn select_iv(c: Interval, t: Interval, e: Interval) -> Interval {
     r
 }
 
-/// The [`Choice`] of node `i`, from the intervals of an evaluation.
-fn choice_of(nodes: &[Node], v: &[Interval], i: usize) -> Choice {
+/// The [`Choice`] of node `i`, from the intervals of an evaluation
+/// (`v(k)`: node `k`'s).
+#[inline]
+fn choice_of(nodes: &[Node], v: impl Fn(usize) -> Interval, i: usize) -> Choice {
     let node = &nodes[i];
-    let r = v[i];
-    let g = |id: NodeId| v[id.index()];
+    let r = v(i);
+    let g = |id: NodeId| v(id.index());
     let mut exact = Pick::Both;
     let mut sign = Pick::Both;
     match *node {
