@@ -404,7 +404,7 @@ fn sin_cos(a: Interval, is_cos: bool) -> Interval {
     }
 }
 
-/// `(sin a, cos a)`, from one reduction of each end (both ends at once).
+/// `(sin a, cos a)`, from one reduction of each end.
 fn sin_cos_pair(a: Interval) -> (Interval, Interval) {
     let Some(nan) = trig_guard(a) else {
         let w = trig_whole(a);
