@@ -1,5 +1,5 @@
 //! Shortening a tape inside a region, from the [`Choice`]s an
-//! [`IntervalEval`](crate::eval::interval::IntervalEval) recorded over it.
+//! [`IntervalEval`] recorded over it.
 //!
 //! The simplified tape is meant for the bulk evaluators (errors are NaN,
 //! `Check` guards are ignored): in both modes `Check(g, v)` becomes `v`.
