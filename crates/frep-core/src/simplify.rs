@@ -41,7 +41,7 @@
 //! of very different magnitudes cancels), the simplified tape can give the
 //! true sign where the full one gives 0.
 
-use crate::eval::interval::{Choice, Decided, IntervalEval, Pick};
+use crate::eval::interval::{is_bool_node, Choice, Decided, IntervalEval, Pick};
 use crate::graph::{Node, NodeId, Tape};
 use crate::ops::{BinaryOp, UnaryOp};
 use std::collections::HashMap;
@@ -129,6 +129,8 @@ pub struct ChoiceMask {
     /// be used for their sign alone, and those that can pick an argument or
     /// a branch or be a decided boolean. In order.
     nodes: Vec<u32>,
+    /// See [`ChoiceMask::can_shorten`].
+    can_shorten: bool,
 }
 
 impl ChoiceMask {
@@ -163,35 +165,44 @@ impl ChoiceMask {
             }
         }
         // Which nodes can choose (see `choice_of` in the interval
-        // evaluator): the others' `exact` is always `Both`.
-        let chooses = |node: &Node| match node {
-            Node::Binary(op, ..) => matches!(
-                op,
-                BinaryOp::Min
-                    | BinaryOp::Max
-                    | BinaryOp::RUnion
-                    | BinaryOp::RInter
-                    | BinaryOp::RDiff
-                    | BinaryOp::And
-                    | BinaryOp::Or
-                    | BinaryOp::Lt
-                    | BinaryOp::Gt
-                    | BinaryOp::Le
-                    | BinaryOp::Ge
-                    | BinaryOp::Eq
-                    | BinaryOp::Ne
-            ),
-            Node::Unary(UnaryOp::Not, _) | Node::Select(..) | Node::Check(..) => true,
-            _ => false,
+        // evaluator): those that pick an argument or a branch, and the
+        // booleans (a constant once decided); the others' `exact` is always
+        // `Both`.
+        let chooses = |node: &Node| {
+            is_bool_node(node)
+                || matches!(
+                    node,
+                    Node::Binary(
+                        BinaryOp::Min
+                            | BinaryOp::Max
+                            | BinaryOp::RUnion
+                            | BinaryOp::RInter
+                            | BinaryOp::RDiff,
+                        ..
+                    ) | Node::Select(..)
+                        | Node::Check(..)
+                )
         };
-        let nodes = (0..n)
+        let nodes: Vec<u32> = (0..n)
             .filter(|&i| may[i] || chooses(&tape.nodes[i]))
             .map(|i| i as u32)
             .collect();
+        let can_shorten = nodes.iter().any(|&i| chooses(&tape.nodes[i as usize]));
         ChoiceMask {
             sign_context: may,
             nodes,
+            can_shorten,
         }
+    }
+
+    /// Whether simplifying can shorten the tape over some box where output
+    /// 0 is not decided: only where a node can choose. Without one, the
+    /// nodes used for their sign alone are output 0 under `-` signs, decided
+    /// exactly where it is. A tape of plain arithmetic (a sphere's
+    /// `r - sqrt(x² + y² + z²)`) never shortens, and its choices need not
+    /// be looked at.
+    pub fn can_shorten(&self) -> bool {
+        self.can_shorten
     }
 
     /// The key of `ev`'s last evaluation (`ev` of this mask's tape): the
@@ -509,7 +520,17 @@ mod tests {
                     let (mut key, mut full) = (Vec::new(), Vec::new());
                     mask.key(&ev, &mut key);
                     mask.expand(&key, &mut full);
-                    prop_assert_eq!(simplify(&tape, ev.choices(), mode), simplify(&tape, &full, mode));
+                    let simp = simplify(&tape, ev.choices(), mode);
+                    prop_assert_eq!(&simp, &simplify(&tape, &full, mode));
+                    // A tape that cannot shorten does not, wherever output 0
+                    // is not decided.
+                    let out = tape.outputs[0].index();
+                    if mode == SimplifyMode::Sign
+                        && !mask.can_shorten()
+                        && ev.choices()[out].decided == Decided::No
+                    {
+                        prop_assert_eq!(simp.len(), tape.len());
+                    }
                     for (i, (f, c)) in full.iter().zip(ev.choices()).enumerate() {
                         prop_assert_eq!(f.exact, c.exact, "node {}", i);
                         if mask.sign_context[i] {

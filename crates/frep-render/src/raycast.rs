@@ -345,11 +345,9 @@ impl ModelCaster {
 /// The evaluators of one (possibly shortened) tape.
 struct Evals {
     tape: Tape,
-    /// Whether [`SimplifyMode::Sign`] can ever shorten the tape (see
-    /// [`may_shorten`]).
-    shortens: bool,
     /// What of the interval choices simplifying can read: the keys of the
-    /// cache of shortened tapes.
+    /// cache of shortened tapes, and whether [`SimplifyMode::Sign`] can ever
+    /// shorten the tape ([`ChoiceMask::can_shorten`]).
     mask: ChoiceMask,
     interval: IntervalEval,
     batch: Option<BatchEval>,
@@ -359,7 +357,6 @@ impl Evals {
     fn new(tape: Tape) -> Evals {
         Evals {
             interval: IntervalEval::new(&tape),
-            shortens: may_shorten(&tape),
             mask: ChoiceMask::new(&tape, SimplifyMode::Sign),
             tape,
             batch: None,
@@ -370,40 +367,6 @@ impl Evals {
         let tape = &self.tape;
         self.batch.get_or_insert_with(|| BatchEval::new(tape))
     }
-}
-
-/// Whether simplifying for the sign ([`SimplifyMode::Sign`]) can shorten
-/// `tape` over some box where its value is not decided: only a node that
-/// picks an argument or a branch (`min`, `max`, R-functions, `and`, `or`,
-/// `select`), a boolean one (a comparison, `not`: a constant once decided),
-/// a `Check` (its value alone is kept) or a sign use of a decided argument
-/// (under `-` or those nodes) changes anything; a tape of plain arithmetic
-/// (a sphere's `r - sqrt(x² + y² + z²)`) never shortens, and its interval
-/// choices need not be looked at.
-fn may_shorten(tape: &Tape) -> bool {
-    use frep_core::ops::{BinaryOp as B, UnaryOp as U};
-    use frep_core::Node;
-    tape.nodes.iter().any(|n| match n {
-        Node::Binary(op, ..) => matches!(
-            op,
-            B::Min
-                | B::Max
-                | B::RUnion
-                | B::RInter
-                | B::RDiff
-                | B::And
-                | B::Or
-                | B::Lt
-                | B::Gt
-                | B::Le
-                | B::Ge
-                | B::Eq
-                | B::Ne
-        ),
-        Node::Unary(op, _) => matches!(op, U::Neg | U::Not),
-        Node::Select(..) | Node::Check(..) => true,
-        _ => false,
-    })
 }
 
 /// Above about this many bytes of evaluators held by one [`Scratch`], its
@@ -1150,7 +1113,7 @@ impl<'a> TileCtx<'a> {
     fn shorten(&mut self, e: usize) -> usize {
         let sc = &mut *self.sc;
         let ev = &sc.evals[e];
-        if ev.tape.len() <= 4 || !ev.shortens {
+        if ev.tape.len() <= 4 || !ev.mask.can_shorten() {
             return e;
         }
         let mut choices = std::mem::take(&mut sc.choices);

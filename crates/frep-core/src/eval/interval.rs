@@ -1022,7 +1022,7 @@ pub struct Choice {
 }
 
 /// Whether a node's values are exactly 0.0 or 1.0.
-fn is_bool_node(n: &Node) -> bool {
+pub(crate) fn is_bool_node(n: &Node) -> bool {
     matches!(
         n,
         Node::Unary(UnaryOp::Not, _)
