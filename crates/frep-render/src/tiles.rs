@@ -128,22 +128,21 @@ pub fn cast_tiled(
     tile_size: u32,
 ) -> HitBuffer {
     let tiles = tiles(width, height, tile_size);
-    let results: Vec<(Tile, Vec<Option<Hit>>)> = tiles
-        .into_par_iter()
-        .map(|t| {
-            let mut out = vec![None; (t.w() * t.h()) as usize];
-            caster.cast_tile(camera, &t, &mut out);
-            (t, out)
-        })
-        .collect();
     let mut buf = HitBuffer::new(*camera, width, height);
-    for (t, out) in results {
-        for row in 0..t.h() {
-            let d = ((t.y0 + row) * width + t.x0) as usize;
-            let s = (row * t.w()) as usize;
-            buf.hits[d..d + t.w() as usize].copy_from_slice(&out[s..s + t.w() as usize]);
-        }
-    }
+    // Each tile is cast into a buffer of the worker's and copied into its
+    // rows of the image.
+    let rows = tile_rows(&mut buf.hits, width as usize, 1, &tiles);
+    tiles
+        .into_par_iter()
+        .zip(rows)
+        .for_each_init(Vec::new, |out, (t, rows)| {
+            out.clear();
+            out.resize((t.w() * t.h()) as usize, None);
+            caster.cast_tile(camera, &t, out);
+            for (row, src) in rows.into_iter().zip(out.chunks_exact(t.w() as usize)) {
+                row.copy_from_slice(src);
+            }
+        });
     buf
 }
 
