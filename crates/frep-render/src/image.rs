@@ -297,8 +297,8 @@ const SRGB_CELLS: usize = 4096;
 /// whose byte is at least `b` (found once by bisection over the `f32`s, so
 /// the result is the same byte, bit for bit, for every finite `c`). An index
 /// gives the count at the start of `c`'s cell of `1/SRGB_CELLS` (exact: the
-/// scaling is by a power of two), and the thresholds inside the cell, at
-/// most a few, are counted one by one.
+/// scaling is by a power of two); a cell holds at most one threshold
+/// (checked when the table is built), compared with `c`.
 #[cfg_attr(not(test), allow(dead_code))]
 fn srgb_byte(c: f32) -> u8 {
     srgb_table().byte(c)
@@ -307,8 +307,11 @@ fn srgb_byte(c: f32) -> u8 {
 /// The thresholds and index of [`srgb_byte`].
 #[derive(Debug)]
 struct SrgbTable {
-    t: [f32; 255],
+    /// Per cell, the thresholds at or below its start.
     idx: Box<[u8; SRGB_CELLS + 1]>,
+    /// Per cell, the next threshold (`t[idx[cell]]`; +∞ past the last):
+    /// read independently of `idx`, so the two loads overlap.
+    next: Box<[f32; SRGB_CELLS + 1]>,
 }
 
 fn srgb_table() -> &'static SrgbTable {
@@ -339,7 +342,10 @@ fn srgb_table() -> &'static SrgbTable {
             idx.windows(2).all(|w| w[1] - w[0] <= 1),
             "sRGB index: two thresholds in one cell"
         );
-        SrgbTable { t, idx }
+        let next = Box::new(std::array::from_fn(|q| {
+            t.get(idx[q] as usize).copied().unwrap_or(f32::INFINITY)
+        }));
+        SrgbTable { idx, next }
     })
 }
 
@@ -355,8 +361,7 @@ impl SrgbTable {
         // At most one threshold lies inside a cell (checked when the table
         // is built): the byte is the cell's count, plus one past it.
         let cell = ((q * SRGB_CELLS as f32) as usize).min(SRGB_CELLS);
-        let b = self.idx[cell] as usize;
-        (b + usize::from(b < 255 && self.t[b.min(254)] <= q)) as u8
+        self.idx[cell] + u8::from(self.next[cell] <= q)
     }
 }
 
@@ -510,12 +515,18 @@ impl Shader {
         let mut albedo = [[0.0f32; SPAN]; 3];
         let mut aof = [1.0f32; SPAN];
         let mut any = false;
+        // Positions only matter to perspective views.
+        let persp = self.ortho.is_none();
         for (j, h) in hits.iter().enumerate() {
             let Some(h) = h else { continue };
             any = true;
             for k in 0..3 {
                 n[k][j] = h.normal[k];
-                p[k][j] = h.position[k];
+            }
+            if persp {
+                for k in 0..3 {
+                    p[k][j] = h.position[k];
+                }
             }
             let a = h.color.map_or(self.base, |c| c.map(srgb_to_linear));
             for k in 0..3 {

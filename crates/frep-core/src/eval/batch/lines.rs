@@ -279,9 +279,10 @@ impl BatchEval {
     /// once per run, and on a grid those of the axis coordinate once per
     /// position in a run (see the module docs).
     ///
-    /// Where the points do not have that shape, the values are those of
-    /// points that do: each run's two other coordinates taken from its
-    /// first point, and on a grid the axis coordinate from the first run.
+    /// The points must have that shape: where they do not, each value is
+    /// unspecified (expensive operations read each run's first point, and on
+    /// a grid the first run, while cheap ones read the point's own
+    /// coordinates; without a split plan every point is evaluated alone).
     ///
     /// # Panics
     /// If `axis > 2`, `len` is 0, or the four slices differ in length.
