@@ -520,12 +520,12 @@ impl Shader {
         for (j, h) in hits.iter().enumerate() {
             let Some(h) = h else { continue };
             any = true;
-            for k in 0..3 {
-                n[k][j] = h.normal[k];
+            for (n, v) in n.iter_mut().zip(h.normal) {
+                n[j] = v;
             }
             if persp {
-                for k in 0..3 {
-                    p[k][j] = h.position[k];
+                for (p, v) in p.iter_mut().zip(h.position) {
+                    p[j] = v;
                 }
             }
             let a = h.color.map_or(self.base, |c| c.map(srgb_to_linear));
