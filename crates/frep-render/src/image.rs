@@ -304,10 +304,10 @@ fn srgb_byte(c: f32) -> u8 {
     srgb_table().byte(c)
 }
 
-/// The thresholds and index of [`srgb_byte`].
+/// The index of [`srgb_byte`] and each cell's next threshold.
 #[derive(Debug)]
 struct SrgbTable {
-    /// Per cell, the thresholds at or below its start.
+    /// Per cell, the number of thresholds at or below its start.
     idx: Box<[u8; SRGB_CELLS + 1]>,
     /// Per cell, the next threshold (`t[idx[cell]]`; +∞ past the last):
     /// read independently of `idx`, so the two loads overlap.
