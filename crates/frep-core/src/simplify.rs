@@ -41,7 +41,7 @@
 //! of very different magnitudes cancels), the simplified tape can give the
 //! true sign where the full one gives 0.
 
-use crate::eval::interval::{is_bool_node, Choice, Decided, IntervalEval, Pick};
+use crate::eval::interval::{can_choose, Choice, Decided, IntervalEval, Pick};
 use crate::graph::{Node, NodeId, Tape};
 use crate::ops::{BinaryOp, UnaryOp};
 use std::collections::HashMap;
@@ -164,30 +164,13 @@ impl ChoiceMask {
                 }
             }
         }
-        // Which nodes can choose (see `choice_of` in the interval
-        // evaluator): those that pick an argument or a branch, and the
-        // booleans (a constant once decided); the others' `exact` is always
+        // Nodes that cannot choose (`can_choose`) always have `exact`
         // `Both`.
-        let chooses = |node: &Node| {
-            is_bool_node(node)
-                || matches!(
-                    node,
-                    Node::Binary(
-                        BinaryOp::Min
-                            | BinaryOp::Max
-                            | BinaryOp::RUnion
-                            | BinaryOp::RInter
-                            | BinaryOp::RDiff,
-                        ..
-                    ) | Node::Select(..)
-                        | Node::Check(..)
-                )
-        };
         let nodes: Vec<u32> = (0..n)
-            .filter(|&i| may[i] || chooses(&tape.nodes[i]))
+            .filter(|&i| may[i] || can_choose(&tape.nodes[i]))
             .map(|i| i as u32)
             .collect();
-        let can_shorten = nodes.iter().any(|&i| chooses(&tape.nodes[i as usize]));
+        let can_shorten = nodes.iter().any(|&i| can_choose(&tape.nodes[i as usize]));
         ChoiceMask {
             sign_context: may,
             nodes,

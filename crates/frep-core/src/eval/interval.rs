@@ -1696,6 +1696,27 @@ fn select_iv(c: Interval, t: Interval, e: Interval) -> Interval {
     r
 }
 
+/// Whether [`choice_of`] can give node `n` an `exact` pick other than
+/// [`Pick::Both`]: the nodes that pick an argument or a branch (`min`,
+/// `max`, the R-functions, `select`, `Check`) and the booleans (a constant
+/// once decided). Kept beside [`choice_of`] and [`binary_picks`], which it
+/// must follow.
+pub(crate) fn can_choose(n: &Node) -> bool {
+    is_bool_node(n)
+        || matches!(
+            n,
+            Node::Binary(
+                BinaryOp::Min
+                    | BinaryOp::Max
+                    | BinaryOp::RUnion
+                    | BinaryOp::RInter
+                    | BinaryOp::RDiff,
+                ..
+            ) | Node::Select(..)
+                | Node::Check(..)
+        )
+}
+
 /// The [`Choice`] of node `i`, from the intervals of an evaluation
 /// (`v(k)`: node `k`'s).
 #[inline]
