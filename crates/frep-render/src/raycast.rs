@@ -33,11 +33,15 @@
 //!    first sign change (`f >= 0` inside, NaN outside) is bracketed; the
 //!    ray is then resolved (searched no further), and its bracket waits
 //!    for the end of the tile, where all brackets of one shortened tape are
-//!    refined together to 1/16 of a footprint, then one secant step
-//!    (batches of up to a tile's rays, not a leaf's): each step evaluates
-//!    a pair of depths just either side of the false-position point
-//!    (Illinois rule), which for a smooth field nearly always closes the
-//!    bracket at once.
+//!    resolved together (batches of up to a tile's rays, not a leaf's).
+//!    First the value and gradient at each bracket's false-position point
+//!    (the gradient is the normal's): where one Newton step from there
+//!    would move at most 1/64 of a footprint and the slope along the ray
+//!    agrees with the bracket's secant slope (no kink or bend inside), that
+//!    point is the hit. The other brackets are refined to 1/16 of a
+//!    footprint, then one secant step: each step evaluates a pair of depths
+//!    just either side of the false-position point (Illinois rule), which
+//!    for a smooth field nearly always closes the bracket at once.
 //! 3. **Thin features.** A ray whose samples show no crossing although the
 //!    leaf is ambiguous can only hide a feature thinner than a step around a
 //!    local maximum of its samples; that segment is checked with one
@@ -62,8 +66,9 @@
 //! 5. **Shading inputs.** Normals are `−∇f/|∇f|`, the gradient by
 //!    forward-mode automatic differentiation over the batch evaluator's
 //!    program ([`BatchEval::eval_grad`]), all hits of a tile and tape in one
-//!    batch on that shortened tape (right after refinement; the shortened
-//!    tape keeps the gradient at the surface); where the gradient vanishes
+//!    batch on that shortened tape (the one that found the hit at a
+//!    false-position point, or right after refinement; the shortened tape
+//!    keeps the gradient at the surface); where the gradient vanishes
 //!    or is not finite (`(r² − |p|²)³` on its surface), central differences
 //!    at ½, 2 and 8 pixel footprints, and failing those the direction back
 //!    to the eye. Where the solid is cut by the
@@ -105,6 +110,10 @@ pub const LEAF: u32 = 8;
 const REFINE: usize = 8;
 /// ...until the bracket is at most this many pixel footprints wide.
 const REFINE_PX: f64 = 1.0 / 16.0;
+/// A bracket's false-position point is the hit without refinement where a
+/// Newton step from it would move at most this many footprints (see
+/// [`TileCtx::polish`]).
+const POLISH_PX: f64 = 1.0 / 64.0;
 
 /// The largest image the renderer accepts: 16 384 pixels a side and 64
 /// megapixels in all.
@@ -1592,11 +1601,12 @@ impl<'a> TileCtx<'a> {
     /// Refines the buffered brackets (evaluator `e`), records their hits and
     /// the buffered direct hits, and their colours.
     fn record(&mut self, e: usize) {
+        let mut hit_rays = std::mem::take(&mut self.sc.hit_rays);
+        hit_rays.clear();
+        self.polish(e, &mut hit_rays);
         self.refine(e);
         let brackets = std::mem::take(&mut self.sc.brackets);
         let direct = std::mem::take(&mut self.sc.direct);
-        let mut hit_rays = std::mem::take(&mut self.sc.hit_rays);
-        hit_rays.clear();
         for b in &brackets {
             let z = if b.f_lo.is_finite() && b.f_hi.is_finite() && b.f_lo < 0.0 && b.f_hi > b.f_lo {
                 b.lo + (b.hi - b.lo) * (-b.f_lo / (b.f_hi - b.f_lo))
@@ -1853,6 +1863,84 @@ impl<'a> TileCtx<'a> {
     /// nearly always) the bracket is done; otherwise the side that holds
     /// the first crossing is kept. A bracket too narrow for a pair gets
     /// `c` alone.
+    /// Resolves the buffered brackets (evaluator `e`) where the field is
+    /// close to linear: the value and gradient at each bracket's false
+    /// position point (one batch of [`BatchEval::eval_grad`], which the
+    /// normal needs anyway), and where one Newton step along the ray from
+    /// there would move at most [`POLISH_PX`] footprints and stay in the
+    /// bracket, and the slope along the ray is within a factor of two of
+    /// the bracket's secant slope (no kink or bend inside it), the hit is
+    /// that point and its normal the gradient's there (hits recorded into
+    /// `hit_rays`). The brackets left, narrowed to the side of that point
+    /// that holds the crossing, are refined ([`TileCtx::refine`]).
+    fn polish(&mut self, e: usize, hit_rays: &mut Vec<usize>) {
+        let sc = &mut *self.sc;
+        let nb = sc.brackets.len();
+        if nb == 0 {
+            return;
+        }
+        let mut cs = std::mem::take(&mut sc.fracs);
+        cs.clear();
+        sc.set_points(nb);
+        for (j, b) in sc.brackets.iter().enumerate() {
+            let (fl, fh) = (b.f_lo, b.f_hi);
+            let w = b.hi - b.lo;
+            let c = if fl.is_finite() && fh.is_finite() && fl < 0.0 && fh > fl {
+                b.lo + w * (-fl / (fh - fl)).clamp(0.0, 1.0)
+            } else {
+                b.lo + 0.5 * w
+            };
+            cs.push(c);
+            [sc.xs[j], sc.ys[j], sc.zs[j]] = sc.rays[b.ray].at_depth(c);
+        }
+        self.stats.grad_evals += nb as u64;
+        sc.eval_grads(e, &self.caster.inputs);
+        let mut brackets = std::mem::take(&mut self.sc.brackets);
+        let grads = std::mem::take(&mut self.sc.grads);
+        let mut kept = 0;
+        for j in 0..nb {
+            let b = brackets[j];
+            let (g, c) = (grads[j], cs[j]);
+            let r = self.sc.rays[b.ray];
+            // The slope along the ray (per unit depth), and the bracket's.
+            let s = g.dx * r.dz[0] + g.dy * r.dz[1] + g.dz * r.dz[2];
+            let m = (b.f_hi - b.f_lo) / (b.hi - b.lo);
+            let d = -g.v / s;
+            let tol = POLISH_PX * self.footprint(b.lo);
+            let linear = s > 0.0 && m >= 0.5 * s && m <= 2.0 * s;
+            let normal = (linear && d.abs() <= tol && c + d >= b.lo && c + d <= b.hi)
+                .then(|| unit([-g.dx, -g.dy, -g.dz]))
+                .flatten();
+            match normal {
+                Some(normal) => {
+                    let h = Hit {
+                        t: c / r.c,
+                        position: r.at_depth(c),
+                        normal,
+                        color: None,
+                    };
+                    self.set_hit(b.ray, h);
+                    hit_rays.push(b.ray);
+                }
+                None => {
+                    // Refined from the side of `c` that holds the crossing.
+                    let mut b = b;
+                    if g.v >= 0.0 {
+                        (b.hi, b.f_hi) = (c, g.v);
+                    } else {
+                        (b.lo, b.f_lo) = (c, g.v);
+                    }
+                    brackets[kept] = b;
+                    kept += 1;
+                }
+            }
+        }
+        brackets.truncate(kept);
+        self.sc.brackets = brackets;
+        self.sc.grads = grads;
+        self.sc.fracs = cs;
+    }
+
     fn refine(&mut self, e: usize) {
         if self.sc.brackets.is_empty() {
             return;
