@@ -2082,7 +2082,14 @@ fn cells(len: f64, min_len: f64) -> usize {
 }
 
 fn unit(n: [f64; 3]) -> Option<[f64; 3]> {
-    let l = dot(n, n).sqrt();
+    let l2 = dot(n, n);
+    if (f64::MIN_POSITIVE..f64::MAX).contains(&l2) {
+        // The common case: one division (finite components, their squares
+        // neither overflowing nor underflowing in sum).
+        let k = 1.0 / l2.sqrt();
+        return Some([n[0] * k, n[1] * k, n[2] * k]);
+    }
+    let l = l2.sqrt();
     if l > 0.0 && l.is_finite() {
         let u = [n[0] / l, n[1] / l, n[2] / l];
         u.iter().all(|v| v.is_finite()).then_some(u)
