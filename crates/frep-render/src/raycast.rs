@@ -440,6 +440,8 @@ struct Scratch {
     /// Values and gradients at the first `np` points (see
     /// [`Scratch::eval_grads`]).
     grads: Vec<Grad>,
+    /// Inverse gradient lengths ([`TileCtx::polish`]).
+    inv_len: Vec<f64>,
     /// Working registers of [`BatchEval::eval_grad`] (for every tape).
     grad_regs: GradRegs,
     /// Per ray of the current leaf: (tile ray index, lo depth, hi depth).
@@ -513,6 +515,7 @@ impl Scratch {
             np: 0,
             vals: Vec::new(),
             grads: Vec::new(),
+            inv_len: Vec::new(),
             grad_regs: GradRegs::default(),
             leaf_rays: Vec::new(),
             brackets: Vec::new(),
@@ -1897,6 +1900,11 @@ impl<'a> TileCtx<'a> {
         sc.eval_grads(e, &self.caster.inputs);
         let mut brackets = std::mem::take(&mut self.sc.brackets);
         let grads = std::mem::take(&mut self.sc.grads);
+        // Inverse gradient lengths first, in a loop of their own: square
+        // roots and divisions that do not wait on each other.
+        let mut inv = std::mem::take(&mut self.sc.inv_len);
+        inv.clear();
+        inv.extend(grads[..nb].iter().map(|g| 1.0 / len2(g).sqrt()));
         let mut kept = 0;
         for j in 0..nb {
             let b = brackets[j];
@@ -1908,9 +1916,15 @@ impl<'a> TileCtx<'a> {
             let d = -g.v / s;
             let tol = POLISH_PX * self.footprint(b.lo);
             let linear = s > 0.0 && m >= 0.5 * s && m <= 2.0 * s;
-            let normal = (linear && d.abs() <= tol && c + d >= b.lo && c + d <= b.hi)
-                .then(|| unit([-g.dx, -g.dy, -g.dz]))
-                .flatten();
+            let normal = if !(linear && d.abs() <= tol && c + d >= b.lo && c + d <= b.hi) {
+                None
+            } else if NORMAL_LEN2.contains(&len2(&g)) {
+                // What `unit` gives, its division done above.
+                let k = inv[j];
+                Some([-g.dx * k, -g.dy * k, -g.dz * k])
+            } else {
+                unit([-g.dx, -g.dy, -g.dz])
+            };
             match normal {
                 Some(normal) => {
                     let h = Hit {
@@ -1939,6 +1953,7 @@ impl<'a> TileCtx<'a> {
         self.sc.brackets = brackets;
         self.sc.grads = grads;
         self.sc.fracs = cs;
+        self.sc.inv_len = inv;
     }
 
     fn refine(&mut self, e: usize) {
@@ -2081,9 +2096,19 @@ fn cells(len: f64, min_len: f64) -> usize {
     m
 }
 
+/// The squared length of a gradient.
+#[inline]
+fn len2(g: &Grad) -> f64 {
+    g.dx * g.dx + g.dy * g.dy + g.dz * g.dz
+}
+
+/// Squared lengths whose vector [`unit`] scales by `1 / √l²`: normal finite
+/// numbers (no component overflows or underflows in the sum).
+const NORMAL_LEN2: std::ops::Range<f64> = f64::MIN_POSITIVE..f64::MAX;
+
 fn unit(n: [f64; 3]) -> Option<[f64; 3]> {
     let l2 = dot(n, n);
-    if (f64::MIN_POSITIVE..f64::MAX).contains(&l2) {
+    if NORMAL_LEN2.contains(&l2) {
         // The common case: one division (finite components, their squares
         // neither overflowing nor underflowing in sum).
         let k = 1.0 / l2.sqrt();
