@@ -1601,8 +1601,10 @@ impl<'a> TileCtx<'a> {
         sc.epoch += 1;
     }
 
-    /// Refines the buffered brackets (evaluator `e`), records their hits and
-    /// the buffered direct hits, and their colours.
+    /// Resolves the buffered brackets (evaluator `e`: at their
+    /// false-position points where the field is close to linear, else
+    /// refined), records their hits and the buffered direct hits, and their
+    /// colours.
     fn record(&mut self, e: usize) {
         let mut hit_rays = std::mem::take(&mut self.sc.hit_rays);
         hit_rays.clear();
@@ -1858,14 +1860,6 @@ impl<'a> TileCtx<'a> {
         self.sc.prune = prune;
     }
 
-    /// Refines the buffered brackets at once (one batch per step) until
-    /// each is at most [`REFINE_PX`] pixel footprints wide (at most
-    /// [`REFINE`] steps). Each step tries the false-position point `c` (the
-    /// Illinois rule, kept off the ends) as a pair `c ± tol·0.45`: where
-    /// the crossing lies between the two (a smooth field, after one step
-    /// nearly always) the bracket is done; otherwise the side that holds
-    /// the first crossing is kept. A bracket too narrow for a pair gets
-    /// `c` alone.
     /// Resolves the buffered brackets (evaluator `e`) where the field is
     /// close to linear: the value and gradient at each bracket's false
     /// position point (one batch of [`BatchEval::eval_grad`], which the
@@ -1956,6 +1950,14 @@ impl<'a> TileCtx<'a> {
         self.sc.inv_len = inv;
     }
 
+    /// Refines the buffered brackets at once (one batch per step) until
+    /// each is at most [`REFINE_PX`] pixel footprints wide (at most
+    /// [`REFINE`] steps). Each step tries the false-position point `c` (the
+    /// Illinois rule, kept off the ends) as a pair `c ± tol·0.45`: where
+    /// the crossing lies between the two (a smooth field, after one step
+    /// nearly always) the bracket is done; otherwise the side that holds
+    /// the first crossing is kept. A bracket too narrow for a pair gets
+    /// `c` alone.
     fn refine(&mut self, e: usize) {
         if self.sc.brackets.is_empty() {
             return;
