@@ -360,7 +360,8 @@ impl SrgbTable {
         let q = c.clamp(0.0, 1.0);
         // At most one threshold lies inside a cell (checked when the table
         // is built): the byte is the cell's count, plus one past it.
-        let cell = ((q * SRGB_CELLS as f32) as usize).min(SRGB_CELLS);
+        // Through `i32` (one conversion instruction; NaN gives 0).
+        let cell = ((q * SRGB_CELLS as f32) as i32).clamp(0, SRGB_CELLS as i32) as usize;
         self.idx[cell] + u8::from(self.next[cell] <= q)
     }
 }
