@@ -175,7 +175,9 @@ fn reference_mask(model: &Model, cam: &Camera, b: &Aabb, w: u32, h: u32) -> Vec<
 }
 
 /// M3 seen almost edge-on to its clipping sphere and along the gyroid's
-/// sheets: no more than 1 % of pixels differ from the dense reference.
+/// sheets: no more than 1/4 % of pixels (10 of 4096) differ from the dense
+/// reference (measured: 0, 4 and 2; each side finds slivers thinner than a
+/// sample step that the other misses).
 #[test]
 fn gyroid_grazing_matches_dense_reference() {
     let src = example("m3_gyroid.hf");
@@ -198,8 +200,9 @@ fn gyroid_grazing_matches_dense_reference() {
             .zip(&reference)
             .filter(|(a, b)| !**a && **b)
             .count();
+        eprintln!("yaw {yaw} pitch {pitch}: {diff} pixels differ ({missed} missed)");
         assert!(
-            diff * 100 <= (w * h) as usize,
+            diff * 400 <= (w * h) as usize,
             "yaw {yaw} pitch {pitch}: {diff} pixels differ ({missed} missed)"
         );
     }
