@@ -847,15 +847,21 @@ struct Bracket {
 }
 
 impl Bracket {
-    /// The next trial depth: the secant (false position) point kept away
-    /// from the ends, or the midpoint where the values do not allow one.
-    fn trial(&self) -> f64 {
+    /// Where the secant (false position) crosses zero, as a fraction of the
+    /// bracket from `lo`, where the values allow one (finite, `f_lo < 0`,
+    /// rising).
+    fn secant(&self) -> Option<f64> {
         let (fl, fh) = (self.f_lo, self.f_hi);
+        (fl.is_finite() && fh.is_finite() && fl < 0.0 && fh > fl).then(|| -fl / (fh - fl))
+    }
+
+    /// The next trial depth: the secant point kept away from the ends, or
+    /// the midpoint where the values do not allow one.
+    fn trial(&self) -> f64 {
         let w = self.hi - self.lo;
-        if fl.is_finite() && fh.is_finite() && fl < 0.0 && fh > fl {
-            self.lo + w * (-fl / (fh - fl)).clamp(1.0 / 16.0, 15.0 / 16.0)
-        } else {
-            self.lo + 0.5 * w
+        match self.secant() {
+            Some(s) => self.lo + w * s.clamp(1.0 / 16.0, 15.0 / 16.0),
+            None => self.lo + 0.5 * w,
         }
     }
 }
@@ -1613,11 +1619,7 @@ impl<'a> TileCtx<'a> {
         let brackets = std::mem::take(&mut self.sc.brackets);
         let direct = std::mem::take(&mut self.sc.direct);
         for b in &brackets {
-            let z = if b.f_lo.is_finite() && b.f_hi.is_finite() && b.f_lo < 0.0 && b.f_hi > b.f_lo {
-                b.lo + (b.hi - b.lo) * (-b.f_lo / (b.f_hi - b.f_lo))
-            } else {
-                b.hi
-            };
+            let z = b.secant().map_or(b.hi, |s| b.lo + (b.hi - b.lo) * s);
             let h = self.make_hit(b.ray, z.clamp(b.lo, b.hi), false);
             self.set_hit(b.ray, h);
             hit_rays.push(b.ray);
@@ -1880,13 +1882,10 @@ impl<'a> TileCtx<'a> {
         cs.clear();
         sc.set_points(nb);
         for (j, b) in sc.brackets.iter().enumerate() {
-            let (fl, fh) = (b.f_lo, b.f_hi);
             let w = b.hi - b.lo;
-            let c = if fl.is_finite() && fh.is_finite() && fl < 0.0 && fh > fl {
-                b.lo + w * (-fl / (fh - fl)).clamp(0.0, 1.0)
-            } else {
-                b.lo + 0.5 * w
-            };
+            let c = b
+                .secant()
+                .map_or(b.lo + 0.5 * w, |s| b.lo + w * s.clamp(0.0, 1.0));
             cs.push(c);
             [sc.xs[j], sc.ys[j], sc.zs[j]] = sc.rays[b.ray].at_depth(c);
         }
