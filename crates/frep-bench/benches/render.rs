@@ -17,8 +17,12 @@
 //!
 //! `FREP_BENCH_STATS=1` also prints the caster's work counters per row.
 //!
-//! Each time is the minimum of `FREP_BENCH_REPS` runs (default 3; runs over
-//! 5 s are not repeated). fidget's interpreter on M4 and on the examples
+//! Each time is the minimum of at least `FREP_BENCH_REPS` runs (default 3;
+//! runs over 5 s are not repeated), repeated further until the runs took
+//! `FREP_BENCH_MIN_MS` in all (default 1000): ours and fidget's alike, so a
+//! fast render is sampled for as long as a slow one, which matters on a
+//! noisy machine (a short 2-thread render has fewer chances to run with
+//! both cores free). fidget's interpreter on M4 and on the examples
 //! (R-functions: minutes, per the notes) is skipped unless `FREP_BENCH_SLOW=1`.
 //!
 //! Run: `scripts/bench-render.sh` (or `cargo bench -p frep-bench --features
@@ -41,14 +45,27 @@ fn reps() -> usize {
         .max(1)
 }
 
-/// The minimum time of up to `reps()` runs (one if it takes over 5 s).
+/// The least total time of the runs of one measurement, in ms.
+fn min_ms() -> u64 {
+    std::env::var("FREP_BENCH_MIN_MS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(1000)
+}
+
+/// The minimum time of at least `reps()` runs and as many more as fit in
+/// `min_ms()` in all (one run if it takes over 5 s).
 fn time_min<F: FnMut()>(mut f: F) -> Duration {
     let mut best = Duration::MAX;
-    for _ in 0..reps() {
+    let budget = Duration::from_millis(min_ms());
+    let start = Instant::now();
+    let mut runs = 0;
+    while runs < reps() || start.elapsed() < budget {
         let t = Instant::now();
         f();
         let d = t.elapsed();
         best = best.min(d);
+        runs += 1;
         if d > Duration::from_secs(5) {
             break;
         }
