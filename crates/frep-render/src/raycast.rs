@@ -399,10 +399,10 @@ struct Scratch {
     evals: Vec<Evals>,
     /// Hash of (parent, choices) → (parent, choices, child): the child is
     /// the parent itself where simplifying does not shorten the tape.
-    children: HashMap<u64, Vec<ChildEntry>>,
+    children: FastMap<u64, Vec<ChildEntry>>,
     /// Hash of a shortened tape → the evaluators holding it (different
     /// boxes often shorten to the same tape).
-    by_tape: HashMap<u64, Vec<u32>>,
+    by_tape: FastMap<u64, Vec<u32>>,
     /// Estimated bytes of `evals`.
     bytes: usize,
     /// The key of the box being shortened, then its choices (see
@@ -494,8 +494,8 @@ impl Scratch {
     fn new(tape: &Tape) -> Scratch {
         Scratch {
             evals: vec![Evals::new(tape.clone())],
-            children: HashMap::new(),
-            by_tape: HashMap::new(),
+            children: FastMap::default(),
+            by_tape: FastMap::default(),
             bytes: tape.len() * NODE_BYTES,
             choices: Vec::new(),
             attr: None,
@@ -682,10 +682,58 @@ fn batch_bytes(b: &mut BatchEval) -> usize {
 
 fn tape_hash(t: &Tape) -> u64 {
     use std::hash::{Hash, Hasher};
-    let mut h = std::collections::hash_map::DefaultHasher::new();
+    let mut h = FastHasher::default();
     t.hash(&mut h);
     h.finish()
 }
+
+/// The hasher of the caster's caches of shortened tapes: FxHash's
+/// multiply-rotate step per word, a few instructions where the standard
+/// SipHash takes tens (hashing the shortened tapes was a fifth of the
+/// shortening's cost). The keys of those maps are already hashes
+/// ([`tape_hash`], [`choices_hash`]): one step each. Collisions cost only
+/// time (every bucket entry is compared in full), and the caches are
+/// bounded ([`CACHE_BYTES`]).
+#[derive(Clone, Copy, Default)]
+struct FastHasher(u64);
+
+impl FastHasher {
+    #[inline]
+    fn add(&mut self, v: u64) {
+        self.0 = (self.0.rotate_left(5) ^ v).wrapping_mul(0x517c_c1b7_2722_0a95);
+    }
+}
+
+impl std::hash::Hasher for FastHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        for c in bytes.chunks(8) {
+            let mut b = [0u8; 8];
+            b[..c.len()].copy_from_slice(c);
+            self.add(u64::from_le_bytes(b));
+        }
+    }
+    fn write_u8(&mut self, v: u8) {
+        self.add(u64::from(v));
+    }
+    fn write_u16(&mut self, v: u16) {
+        self.add(u64::from(v));
+    }
+    fn write_u32(&mut self, v: u32) {
+        self.add(u64::from(v));
+    }
+    fn write_u64(&mut self, v: u64) {
+        self.add(v);
+    }
+    fn write_usize(&mut self, v: usize) {
+        self.add(v as u64);
+    }
+}
+
+/// A map of the caster's caches (see [`FastHasher`]).
+type FastMap<K, V> = HashMap<K, V, std::hash::BuildHasherDefault<FastHasher>>;
 
 fn choices_hash(parent: usize, choices: &[Choice]) -> u64 {
     let mut h = 0xcbf2_9ce4_8422_2325u64 ^ parent as u64;
