@@ -457,11 +457,12 @@ struct Scratch {
     tail_list: Vec<(usize, Tail)>,
     hit_rays: Vec<usize>,
     fracs: Vec<f64>,
-    /// Crossings found but not refined yet, with their evaluator (see
-    /// [`TileCtx::finish`]).
-    deferred: Vec<(u32, Bracket)>,
-    /// Direct hits not recorded yet, with their evaluator.
-    deferred_direct: Vec<(u32, (usize, f64, bool))>,
+    /// Crossings found but not refined yet and direct hits not recorded
+    /// yet, one group per evaluator (see [`TileCtx::finish`]): the tile's
+    /// are the first `groups`; the others are kept (empty) for their
+    /// buffers' capacity.
+    deferred: Vec<Deferred>,
+    groups: usize,
     /// Buffers lent in place of `brackets`, `direct`, `searches` and
     /// `need_normal` while [`TileCtx::search_tails`] sets those aside, kept
     /// (empty) for their capacity: no allocation per search.
@@ -475,6 +476,16 @@ struct Scratch {
     /// [`TileCtx::refine`]'s brackets still too wide, and their trial depths.
     refine_active: Vec<usize>,
     refine_trials: Vec<(f64, f64, usize)>,
+}
+
+/// The crossings and direct hits of one evaluator waiting for the end of
+/// the tile ([`TileCtx::finish`], [`TileCtx::flush_deferred`]).
+#[derive(Default)]
+struct Deferred {
+    e: u32,
+    brackets: Vec<Bracket>,
+    /// (ray, depth, at the model box entry), as [`Scratch::direct`].
+    direct: Vec<(usize, f64, bool)>,
 }
 
 /// Sets `slot`'s buffer aside and lends it `spare`'s (empty) meanwhile.
@@ -525,7 +536,7 @@ impl Scratch {
             hit_rays: Vec::new(),
             fracs: Vec::new(),
             deferred: Vec::new(),
-            deferred_direct: Vec::new(),
+            groups: 0,
             spare_brackets: Vec::new(),
             spare_direct: Vec::new(),
             spare_searches: Vec::new(),
@@ -1092,29 +1103,18 @@ impl<'a> TileCtx<'a> {
     /// tile, one group per evaluator: refinement steps, normals and colours
     /// then run in batches of up to the whole tile instead of a leaf.
     fn flush_deferred(&mut self) {
-        let mut deferred = std::mem::take(&mut self.sc.deferred);
-        let mut direct = std::mem::take(&mut self.sc.deferred_direct);
-        deferred.sort_by_key(|d| d.0);
-        direct.sort_by_key(|d| d.0);
-        let (mut a, mut b) = (0, 0);
-        while a < deferred.len() || b < direct.len() {
-            let e = match (deferred.get(a), direct.get(b)) {
-                (Some(x), Some(y)) => x.0.min(y.0),
-                (Some(x), None) => x.0,
-                (None, Some(y)) => y.0,
-                (None, None) => break,
-            };
-            let a1 = a + deferred[a..].iter().take_while(|d| d.0 == e).count();
-            let b1 = b + direct[b..].iter().take_while(|d| d.0 == e).count();
-            self.sc.brackets.extend(deferred[a..a1].iter().map(|d| d.1));
-            self.sc.direct.extend(direct[b..b1].iter().map(|d| d.1));
-            (a, b) = (a1, b1);
-            self.record(e as usize);
+        let n = std::mem::take(&mut self.sc.groups);
+        // In the order of the evaluators, each group's buffers lent to
+        // `brackets` and `direct` (empty here, and again after `record`).
+        self.sc.deferred[..n].sort_unstable_by_key(|d| d.e);
+        for g in 0..n {
+            let sc = &mut *self.sc;
+            let d = &mut sc.deferred[g];
+            std::mem::swap(&mut sc.brackets, &mut d.brackets);
+            std::mem::swap(&mut sc.direct, &mut d.direct);
+            let e = d.e as usize;
+            self.record(e);
         }
-        deferred.clear();
-        direct.clear();
-        self.sc.deferred = deferred;
-        self.sc.deferred_direct = direct;
     }
 
     /// The depth range of the unresolved live rays of `rect` within
@@ -1642,17 +1642,40 @@ impl<'a> TileCtx<'a> {
     /// ([`TileCtx::flush_deferred`]).
     fn finish(&mut self, e: usize) {
         let sc = &mut *self.sc;
-        for b in sc.brackets.drain(..) {
-            sc.z0s[b.ray] = f64::INFINITY;
-            sc.z1s[b.ray] = f64::NEG_INFINITY;
-            sc.deferred.push((e as u32, b));
-        }
-        for d in sc.direct.drain(..) {
-            sc.z0s[d.0] = f64::INFINITY;
-            sc.z1s[d.0] = f64::NEG_INFINITY;
-            sc.deferred_direct.push((e as u32, d));
+        let rays = sc.brackets.iter().map(|b| b.ray);
+        for i in rays.chain(sc.direct.iter().map(|d| d.0)) {
+            sc.z0s[i] = f64::INFINITY;
+            sc.z1s[i] = f64::NEG_INFINITY;
         }
         sc.epoch += 1;
+        if sc.brackets.is_empty() && sc.direct.is_empty() {
+            return;
+        }
+        // The evaluator's group of the tile (a few per tile: a short scan).
+        let e = e as u32;
+        let g = match sc.deferred[..sc.groups].iter().position(|d| d.e == e) {
+            Some(g) => g,
+            None => {
+                if sc.groups == sc.deferred.len() {
+                    sc.deferred.push(Deferred::default());
+                }
+                sc.deferred[sc.groups].e = e;
+                sc.groups += 1;
+                sc.groups - 1
+            }
+        };
+        let d = &mut sc.deferred[g];
+        // Moved, not copied, where the group is empty.
+        if d.brackets.is_empty() {
+            std::mem::swap(&mut d.brackets, &mut sc.brackets);
+        } else {
+            d.brackets.append(&mut sc.brackets);
+        }
+        if d.direct.is_empty() {
+            std::mem::swap(&mut d.direct, &mut sc.direct);
+        } else {
+            d.direct.append(&mut sc.direct);
+        }
     }
 
     /// Resolves the buffered brackets (evaluator `e`: at their
