@@ -1049,6 +1049,7 @@ impl<'a> TileCtx<'a> {
             }
             _ => None,
         };
+        debug_assert_eq!(sc.groups, 0, "the last tile's hits flushed");
         sc.tails.clear();
         sc.tails.resize(sc.rays.len(), Tail::default());
         sc.misses.clear();
@@ -1106,6 +1107,10 @@ impl<'a> TileCtx<'a> {
         let n = std::mem::take(&mut self.sc.groups);
         // In the order of the evaluators, each group's buffers lent to
         // `brackets` and `direct` (empty here, and again after `record`).
+        debug_assert!(
+            self.sc.brackets.is_empty() && self.sc.direct.is_empty(),
+            "every leaf finished"
+        );
         self.sc.deferred[..n].sort_unstable_by_key(|d| d.e);
         for g in 0..n {
             let sc = &mut *self.sc;
