@@ -22,6 +22,7 @@ pub mod compile;
 pub mod diag;
 pub mod eval;
 pub mod graph;
+pub mod hash;
 pub mod lexer;
 pub mod library;
 pub mod ops;

@@ -82,7 +82,6 @@
 //! shorten to the same tape share it), bounded to a few MiB. Rays, frustum
 //! corners and pixel footprints use per-image constants ([`RayMaker`]).
 
-use std::collections::HashMap;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 
@@ -90,6 +89,7 @@ use frep_core::eval::batch::{BatchEval, GradRegs, LANES};
 use frep_core::eval::grad::Grad;
 use frep_core::eval::interval::{Choice, Interval, IntervalEval};
 use frep_core::eval::Inputs;
+use frep_core::hash::{FastHasher, FastMap};
 use frep_core::simplify::{simplify_with_stats, ChoiceMask, SimplifyMode};
 use frep_core::{Model, Tape};
 use rayon::prelude::*;
@@ -488,6 +488,16 @@ struct Deferred {
     direct: Vec<(usize, f64, bool)>,
 }
 
+/// Moves all of `from` to the end of `to`, leaving `from` empty: the
+/// buffers are swapped (nothing copied) where `to` is empty.
+fn move_all<T>(from: &mut Vec<T>, to: &mut Vec<T>) {
+    if to.is_empty() {
+        std::mem::swap(from, to);
+    } else {
+        to.append(from);
+    }
+}
+
 /// Sets `slot`'s buffer aside and lends it `spare`'s (empty) meanwhile.
 fn set_aside<T>(slot: &mut Vec<T>, spare: &mut Vec<T>) -> Vec<T> {
     std::mem::replace(slot, std::mem::take(spare))
@@ -691,60 +701,15 @@ fn batch_bytes(b: &mut BatchEval) -> usize {
     regs * LANES * 8 + instrs * 16
 }
 
+/// The key of a shortened tape in [`Scratch::by_tape`]: with
+/// [`FastHasher`], not SipHash, which made hashing a fifth of the
+/// shortening's cost.
 fn tape_hash(t: &Tape) -> u64 {
     use std::hash::{Hash, Hasher};
     let mut h = FastHasher::default();
     t.hash(&mut h);
     h.finish()
 }
-
-/// The hasher of the caster's caches of shortened tapes: FxHash's
-/// multiply-rotate step per word, a few instructions where the standard
-/// SipHash takes tens (hashing the shortened tapes was a fifth of the
-/// shortening's cost). The keys of those maps are already hashes
-/// ([`tape_hash`], [`choices_hash`]): one step each. Collisions cost only
-/// time (every bucket entry is compared in full), and the caches are
-/// bounded ([`CACHE_BYTES`]).
-#[derive(Clone, Copy, Default)]
-struct FastHasher(u64);
-
-impl FastHasher {
-    #[inline]
-    fn add(&mut self, v: u64) {
-        self.0 = (self.0.rotate_left(5) ^ v).wrapping_mul(0x517c_c1b7_2722_0a95);
-    }
-}
-
-impl std::hash::Hasher for FastHasher {
-    fn finish(&self) -> u64 {
-        self.0
-    }
-    fn write(&mut self, bytes: &[u8]) {
-        for c in bytes.chunks(8) {
-            let mut b = [0u8; 8];
-            b[..c.len()].copy_from_slice(c);
-            self.add(u64::from_le_bytes(b));
-        }
-    }
-    fn write_u8(&mut self, v: u8) {
-        self.add(u64::from(v));
-    }
-    fn write_u16(&mut self, v: u16) {
-        self.add(u64::from(v));
-    }
-    fn write_u32(&mut self, v: u32) {
-        self.add(u64::from(v));
-    }
-    fn write_u64(&mut self, v: u64) {
-        self.add(v);
-    }
-    fn write_usize(&mut self, v: usize) {
-        self.add(v as u64);
-    }
-}
-
-/// A map of the caster's caches (see [`FastHasher`]).
-type FastMap<K, V> = HashMap<K, V, std::hash::BuildHasherDefault<FastHasher>>;
 
 fn choices_hash(parent: usize, choices: &[Choice]) -> u64 {
     let mut h = 0xcbf2_9ce4_8422_2325u64 ^ parent as u64;
@@ -1105,7 +1070,7 @@ impl<'a> TileCtx<'a> {
     /// then run in batches of up to the whole tile instead of a leaf.
     fn flush_deferred(&mut self) {
         let n = std::mem::take(&mut self.sc.groups);
-        // In the order of the evaluators, each group's buffers lent to
+        // In the order of the evaluators, each group's hits moved into
         // `brackets` and `direct` (empty here, and again after `record`).
         debug_assert!(
             self.sc.brackets.is_empty() && self.sc.direct.is_empty(),
@@ -1115,8 +1080,8 @@ impl<'a> TileCtx<'a> {
         for g in 0..n {
             let sc = &mut *self.sc;
             let d = &mut sc.deferred[g];
-            std::mem::swap(&mut sc.brackets, &mut d.brackets);
-            std::mem::swap(&mut sc.direct, &mut d.direct);
+            move_all(&mut d.brackets, &mut sc.brackets);
+            move_all(&mut d.direct, &mut sc.direct);
             let e = d.e as usize;
             self.record(e);
         }
@@ -1670,17 +1635,8 @@ impl<'a> TileCtx<'a> {
             }
         };
         let d = &mut sc.deferred[g];
-        // Moved, not copied, where the group is empty.
-        if d.brackets.is_empty() {
-            std::mem::swap(&mut d.brackets, &mut sc.brackets);
-        } else {
-            d.brackets.append(&mut sc.brackets);
-        }
-        if d.direct.is_empty() {
-            std::mem::swap(&mut d.direct, &mut sc.direct);
-        } else {
-            d.direct.append(&mut sc.direct);
-        }
+        move_all(&mut sc.brackets, &mut d.brackets);
+        move_all(&mut sc.direct, &mut d.direct);
     }
 
     /// Resolves the buffered brackets (evaluator `e`: at their

@@ -53,8 +53,7 @@ pub mod table;
 
 use std::cell::Cell;
 use std::collections::hash_map::Entry;
-use std::collections::HashMap;
-use std::hash::{BuildHasherDefault, Hash, Hasher};
+use std::hash::{Hash, Hasher};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::Arc;
 
@@ -62,6 +61,7 @@ use frep_core::eval::batch::BatchEval;
 use frep_core::eval::grad::GradEval;
 use frep_core::eval::interval::{Interval, IntervalEval};
 use frep_core::eval::Inputs;
+use frep_core::hash::{FastHasher, FastMap};
 use frep_core::simplify::{simplify, SimplifyMode};
 use frep_core::{Model, Tape};
 
@@ -310,7 +310,7 @@ thread_local! {
 /// Runs `f` with this thread's batch evaluator of `tape` (compiled on first use).
 fn with_batch<R>(tape: &Tape, f: impl FnOnce(&mut BatchEval) -> R) -> R {
     let mut cache = BATCH_EVALS.with(Cell::take);
-    let mut hasher = KeyHasher::default();
+    let mut hasher = FastHasher::default();
     tape.hash(&mut hasher);
     let h = hasher.finish();
     let evals = &mut cache.evals;
@@ -672,27 +672,8 @@ fn merge_marching(outs: &mut [BrickOut], mesh: &mut Mesh, with_colors: bool) {
     }
 }
 
-/// A fast hasher for integer keys.
-#[derive(Default, Clone, Copy)]
-struct KeyHasher(u64);
-
-impl Hasher for KeyHasher {
-    fn finish(&self) -> u64 {
-        self.0
-    }
-    fn write(&mut self, bytes: &[u8]) {
-        for &b in bytes {
-            self.write_u64(b as u64);
-        }
-    }
-    fn write_u64(&mut self, v: u64) {
-        self.0 = (self.0 ^ v)
-            .wrapping_mul(0x9E37_79B9_7F4A_7C15)
-            .rotate_left(29);
-    }
-}
-
-type KeyMap<V> = HashMap<u64, V, BuildHasherDefault<KeyHasher>>;
+/// Maps by integer key ([`FastHasher`]).
+type KeyMap<V> = FastMap<u64, V>;
 
 enum Class {
     Inside,
