@@ -5,6 +5,7 @@
 # Prints a Markdown table. Options through the environment:
 #   FREP_BENCH_REPS=N   runs per measurement at least, minimum reported (default 3)
 #   FREP_BENCH_MIN_MS=T ...and more runs until they took T ms in all (default 1000)
+#   (ours on 2 threads, top view, is measured in ~50 ms turns with fidget)
 #   FREP_BENCH_SLOW=1   also run fidget's interpreter on M4 (minutes)
 # Extra arguments: a model-name filter, e.g. `scripts/bench-render.sh m4`.
 set -euo pipefail

@@ -22,7 +22,10 @@
 //! `FREP_BENCH_MIN_MS` in all (default 1000): ours and fidget's alike, so a
 //! fast render is sampled for as long as a slow one, which matters on a
 //! noisy machine (a short 2-thread render has fewer chances to run with
-//! both cores free). fidget's interpreter on M4 and on the examples
+//! both cores free). Our 2-thread top view and fidget's renders of the same
+//! row are measured in turns of about 50 ms each (`time_min_together`), not
+//! one after the other, so that a noisy stretch of the run falls to both
+//! sides of the ratio alike. fidget's interpreter on M4 and on the examples
 //! (R-functions: minutes, per the notes) is skipped unless `FREP_BENCH_SLOW=1`.
 //!
 //! Run: `scripts/bench-render.sh` (or `cargo bench -p frep-bench --features
@@ -56,18 +59,37 @@ fn min_ms() -> u64 {
 /// The minimum time of at least `reps()` runs and as many more as fit in
 /// `min_ms()` in all (one run if it takes over 5 s).
 fn time_min<F: FnMut()>(mut f: F) -> Duration {
-    let mut best = Duration::MAX;
+    time_min_together(&mut [&mut f])[0]
+}
+
+/// How long each measurement of [`time_min_together`] runs at a turn
+/// before the next one's turn.
+const SLICE: Duration = Duration::from_millis(50);
+
+/// [`time_min`] of several measurements at once, taken in turns of about
+/// [`SLICE`] each (one run at least), so that each is sampled across the
+/// same stretch of time: on a noisy machine the quiet moments then fall to
+/// all of them alike, and their ratio does not depend on which came first.
+/// A measurement stops after `reps()` runs once its runs took `min_ms()`
+/// in all, or after one run over 5 s; the others go on.
+fn time_min_together(fs: &mut [&mut dyn FnMut()]) -> Vec<Duration> {
     let budget = Duration::from_millis(min_ms());
-    let start = Instant::now();
-    let mut runs = 0;
-    while runs < reps() || start.elapsed() < budget {
-        let t = Instant::now();
-        f();
-        let d = t.elapsed();
-        best = best.min(d);
-        runs += 1;
-        if d > Duration::from_secs(5) {
-            break;
+    let mut best = vec![Duration::MAX; fs.len()];
+    let mut runs = vec![0usize; fs.len()];
+    let mut spent = vec![Duration::ZERO; fs.len()];
+    let mut done = vec![false; fs.len()];
+    while done.iter().any(|d| !d) {
+        for (k, f) in fs.iter_mut().enumerate() {
+            let turn = Instant::now();
+            while !done[k] && turn.elapsed() < SLICE {
+                let t = Instant::now();
+                f();
+                let d = t.elapsed();
+                best[k] = best[k].min(d);
+                runs[k] += 1;
+                spent[k] += d;
+                done[k] = d > Duration::from_secs(5) || (runs[k] >= reps() && spent[k] >= budget);
+            }
         }
     }
     best
@@ -128,19 +150,29 @@ mod peer {
         }
     }
 
-    /// fidget's JIT and VM render times of `tree` at `n`², 2 threads; the VM
-    /// only with `vm`.
-    pub fn times(tree: &fidget::context::Tree, n: u32, vm: bool) -> [Option<Duration>; 2] {
+    /// fidget's JIT and VM render times of `tree` at `n`², 2 threads (the VM
+    /// only with `vm`), measured in turns with `ours` (whose time comes
+    /// first).
+    pub fn times_beside(
+        tree: &fidget::context::Tree,
+        n: u32,
+        vm: bool,
+        ours: &mut dyn FnMut(),
+    ) -> (Duration, [Option<Duration>; 2]) {
         let threads = ThreadPool::Custom(Args::pool(2));
-        let jit = time_min(|| {
+        let mut jit = || {
             std::hint::black_box(run(JitShape::from(tree.clone()), n, &threads));
-        });
-        let vm = vm.then(|| {
-            time_min(|| {
-                std::hint::black_box(run(fidget::vm::VmShape::from(tree.clone()), n, &threads));
-            })
-        });
-        [Some(jit), vm]
+        };
+        let mut interp = || {
+            std::hint::black_box(run(fidget::vm::VmShape::from(tree.clone()), n, &threads));
+        };
+        if vm {
+            let t = time_min_together(&mut [ours, &mut jit, &mut interp]);
+            (t[0], [Some(t[1]), Some(t[2])])
+        } else {
+            let t = time_min_together(&mut [ours, &mut jit]);
+            (t[0], [Some(t[1]), None])
+        }
     }
 
     /// Pixels fidget sees as covered (for a sanity check against ours).
@@ -223,19 +255,24 @@ fn main() {
                 bounds: top_box,
                 ..Default::default()
             };
-            let top = [run(&p2, &s, &c), run(&p1, &s, &c)];
             // fidget's VM takes minutes on R-function models (M4, the examples).
             let slow = std::env::var_os("FREP_BENCH_SLOW").is_some();
             let with_vm = slow || matches!(anchor, Some(0..=2));
-            #[cfg(feature = "anchors")]
-            let fidget = peer_tree
-                .as_ref()
-                .map_or([None, None], |t| peer::times(t, size, with_vm));
-            #[cfg(not(feature = "anchors"))]
-            let fidget = {
-                let _ = with_vm;
-                [None, None]
+            // Ours on 2 threads in turns with the peers (`time_min_together`).
+            let mut ours = || {
+                p2.install(|| std::hint::black_box(render_camera(&model, &s, &c, None).unwrap()));
             };
+            #[cfg(feature = "anchors")]
+            let (top2, fidget) = match &peer_tree {
+                Some(t) => peer::times_beside(t, size, with_vm, &mut ours),
+                None => (time_min(&mut ours), [None, None]),
+            };
+            #[cfg(not(feature = "anchors"))]
+            let (top2, fidget) = {
+                let _ = with_vm;
+                (time_min(&mut ours), [None, None])
+            };
+            let top = [top2, run(&p1, &s, &c)];
             let row = Row {
                 name: file.trim_end_matches(".hf").to_string(),
                 size,
