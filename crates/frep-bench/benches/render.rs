@@ -73,7 +73,7 @@ const SLICE: Duration = Duration::from_millis(50);
 /// A measurement stops after `reps()` runs once its runs took `min_ms()`
 /// in all, or after one run over 5 s; the others go on.
 fn time_min_together(fs: &mut [&mut dyn FnMut()]) -> Vec<Duration> {
-    let budget = Duration::from_millis(min_ms());
+    let (reps, budget) = (reps(), Duration::from_millis(min_ms()));
     let mut best = vec![Duration::MAX; fs.len()];
     let mut runs = vec![0usize; fs.len()];
     let mut spent = vec![Duration::ZERO; fs.len()];
@@ -88,7 +88,7 @@ fn time_min_together(fs: &mut [&mut dyn FnMut()]) -> Vec<Duration> {
                 best[k] = best[k].min(d);
                 runs[k] += 1;
                 spent[k] += d;
-                done[k] = d > Duration::from_secs(5) || (runs[k] >= reps() && spent[k] >= budget);
+                done[k] = d > Duration::from_secs(5) || (runs[k] >= reps && spent[k] >= budget);
             }
         }
     }
@@ -216,12 +216,12 @@ fn main() {
                 ..Default::default()
             };
             let cam = turn.camera();
+            // One render of ours, and its time (`time_min`).
+            let render = |pool: &rayon::ThreadPool, s: &RenderSettings, c: &Camera| {
+                pool.install(|| std::hint::black_box(render_camera(&model, s, c, None).unwrap()));
+            };
             let run = |pool: &rayon::ThreadPool, s: &RenderSettings, c: &Camera| {
-                time_min(|| {
-                    pool.install(|| {
-                        std::hint::black_box(render_camera(&model, s, c, None).unwrap())
-                    });
-                })
+                time_min(|| render(pool, s, c))
             };
             let turn_t = [run(&p2, &turn, &cam), run(&p1, &turn, &cam)];
             if std::env::var_os("FREP_BENCH_STATS").is_some() {
@@ -259,9 +259,7 @@ fn main() {
             let slow = std::env::var_os("FREP_BENCH_SLOW").is_some();
             let with_vm = slow || matches!(anchor, Some(0..=2));
             // Ours on 2 threads in turns with the peers (`time_min_together`).
-            let mut ours = || {
-                p2.install(|| std::hint::black_box(render_camera(&model, &s, &c, None).unwrap()));
-            };
+            let mut ours = || render(&p2, &s, &c);
             #[cfg(feature = "anchors")]
             let (top2, fidget) = match &peer_tree {
                 Some(t) => peer::times_beside(t, size, with_vm, &mut ours),
