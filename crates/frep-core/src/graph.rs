@@ -454,6 +454,51 @@ impl Tape {
             .unwrap_or(0)
     }
 
+    /// The degree of output 0 as a polynomial in the point `x[1..3]`, where
+    /// the tape computes one: only constants, parameters, the other
+    /// coordinate slots (constant while a point varies), `+`, `−`, `*`,
+    /// negation, integer powers `^ n` with `n ≥ 0`, division by a value
+    /// that does not depend on the point, and `if` on such a value. `None`
+    /// otherwise (any other operation on the point, or a degree above 64).
+    ///
+    /// Along a ray `p = o + t·d` such a field is a polynomial of this degree
+    /// in `t`, up to rounding, so a ray caster may find its crossings in
+    /// closed form (and check them), not by sampling.
+    pub fn polynomial_degree(&self) -> Option<u32> {
+        const MAX: u32 = 64;
+        let mut deg: Vec<Option<u32>> = Vec::with_capacity(self.nodes.len());
+        for n in &self.nodes {
+            let d = |c: &NodeId| deg[c.index()];
+            let v = match n {
+                Node::Const(_) | Node::Param(_) => Some(0),
+                Node::X(i) => Some(u32::from(*i < 3)),
+                Node::Error(_) => None,
+                Node::Unary(UnaryOp::Neg, a) => d(a),
+                Node::Unary(_, a) => d(a).filter(|&x| x == 0),
+                Node::Binary(op, a, b) => match (op, d(a), d(b)) {
+                    (BinaryOp::Add | BinaryOp::Sub, Some(x), Some(y)) => Some(x.max(y)),
+                    (BinaryOp::Mul, Some(x), Some(y)) => Some(x + y),
+                    (BinaryOp::Div | BinaryOp::DivF, Some(x), Some(0)) => Some(x),
+                    (_, Some(0), Some(0)) => Some(0),
+                    _ => None,
+                },
+                Node::PowI(a, k) => match (d(a), u32::try_from(*k)) {
+                    (Some(x), Ok(k)) => x.checked_mul(k),
+                    (Some(0), Err(_)) => Some(0),
+                    _ => None,
+                },
+                Node::Select(c, t, e) => match (d(c), d(t), d(e)) {
+                    (Some(0), Some(x), Some(y)) => Some(x.max(y)),
+                    _ => None,
+                },
+                Node::Blend(_, args) => args.iter().all(|a| d(a) == Some(0)).then_some(0),
+                Node::Check(_, v) => d(v),
+            };
+            deg.push(v.filter(|&v| v <= MAX));
+        }
+        self.outputs.first().and_then(|o| deg[o.index()])
+    }
+
     /// For each node, the position of its last use (its own position when
     /// only an output or unused): what a register allocator needs.
     pub fn last_uses(&self) -> Vec<u32> {
@@ -508,6 +553,54 @@ mod tests {
         // s + e: e evaluated first, always fails.
         let sum2 = g.binary(BinaryOp::Add, s, e);
         assert_eq!(sum2, e);
+    }
+
+    #[test]
+    fn polynomial_degrees() {
+        let mut g = Graph::new();
+        let [x, y, z] = [0, 1, 2].map(|i| g.x(i));
+        let w = g.x(3);
+        let a = g.param(0);
+        let deg = |g: &Graph, f: NodeId| g.tape(&[f]).polynomial_degree();
+        // r² − x² − y² − z², the sphere, with a parameter radius.
+        let r2 = g.pow_int(a, 2);
+        let x2 = g.pow_int(x, 2);
+        let yy = g.binary(BinaryOp::Mul, y, y);
+        let z2 = g.pow_int(z, 2);
+        let f = g.binary(BinaryOp::Sub, r2, x2);
+        let f = g.binary(BinaryOp::Sub, f, yy);
+        let sphere = g.binary(BinaryOp::Sub, f, z2);
+        assert_eq!(deg(&g, sphere), Some(2));
+        let plane = g.binary(BinaryOp::Sub, a, z);
+        assert_eq!(deg(&g, plane), Some(1));
+        let neg = g.unary(UnaryOp::Neg, plane);
+        assert_eq!(deg(&g, neg), Some(1));
+        // x[4] and functions of parameters are constants for a point.
+        let s = g.unary(UnaryOp::Sin, a);
+        let sw = g.binary(BinaryOp::Mul, s, w);
+        assert_eq!(deg(&g, sw), Some(0));
+        let xs = g.binary(BinaryOp::DivF, x, s);
+        assert_eq!(deg(&g, xs), Some(1));
+        let xyz = g.binary(BinaryOp::Mul, x, y);
+        let xyz = g.binary(BinaryOp::Mul, xyz, z);
+        assert_eq!(deg(&g, xyz), Some(3));
+        let p = g.pow_int(xyz, 30);
+        assert_eq!(deg(&g, p), None, "degree 90 is above the limit");
+        let sel = g.select(s, x2, plane);
+        assert_eq!(deg(&g, sel), Some(2));
+        // Not polynomials in the point.
+        let sel = g.select(x, x2, plane);
+        assert_eq!(deg(&g, sel), None);
+        let inv = g.pow_int(x, -1);
+        assert_eq!(deg(&g, inv), None);
+        let q = g.binary(BinaryOp::DivF, a, x);
+        assert_eq!(deg(&g, q), None);
+        let r = g.binary(BinaryOp::RInter, sphere, plane);
+        assert_eq!(deg(&g, r), None);
+        let sq = g.unary(UnaryOp::Sqrt, sphere);
+        assert_eq!(deg(&g, sq), None);
+        let m = g.binary(BinaryOp::Max, sphere, plane);
+        assert_eq!(deg(&g, m), None);
     }
 
     #[test]

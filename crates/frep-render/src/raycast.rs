@@ -42,6 +42,23 @@
 //!    footprint, then one secant step: each step evaluates a pair of depths
 //!    just either side of the false-position point (Illinois rule), which
 //!    for a smooth field nearly always closes the bracket at once.
+//!    **Quadrics in closed form.** Where the tape shortened for a box is
+//!    a polynomial of degree 2 in the point ([`Tape::polynomial_degree`]:
+//!    a sphere, a cylinder, a cone or an ellipsoid alone in the box), the
+//!    field along every ray is a polynomial of degree at most 2 in the
+//!    depth: the box is split into leaf-sized rectangles over its whole
+//!    slab (the quadrants' interval evaluations drop the rays far from the
+//!    surface), each ray is sampled at its slab's ends and middle, and its
+//!    first crossing is solved in closed form; a bracket of 1/8 of a
+//!    footprint either side of it is resolved
+//!    with the others (the value and gradient at its false-position point
+//!    check it). The polynomial holds for the whole ray on that tape, so a
+//!    later slab of the ray on the same tape takes no samples; where it has
+//!    no crossing on the rest of the ray either, the whole-ray check of
+//!    step 4 is made at once where likely to pay. A ray the closed form
+//!    leaves unsure (a graze within rounding of the surface, a value not
+//!    finite) is sampled as above. Planes (degree 1) are left to sampling,
+//!    which was cheaper there (the leaf's narrowing finds them exactly).
 //! 3. **Thin features.** A ray whose samples show no crossing although the
 //!    leaf is ambiguous can only hide a feature thinner than a step around a
 //!    local maximum of its samples; that segment is checked with one
@@ -115,6 +132,10 @@ const REFINE_PX: f64 = 1.0 / 16.0;
 /// [`TileCtx::polish`]).
 const POLISH_PX: f64 = 1.0 / 64.0;
 
+/// [`TileCtx::exact`] brackets a crossing it computed this many pixel
+/// footprints either side of it.
+const EXACT_BRACKET_PX: f64 = 1.0 / 8.0;
+
 /// The largest image the renderer accepts: 16 384 pixels a side and 64
 /// megapixels in all.
 pub const MAX_SIDE: u32 = 16_384;
@@ -139,6 +160,10 @@ pub struct CastStats {
     /// Of the point evaluations, those made as lines along a coordinate
     /// axis (see [`ModelCaster::lines`]).
     pub line_points: u64,
+    /// Rays' slabs settled in closed form (see [`ModelCaster::exact`]):
+    /// a hit bracketed or no crossing, from samples or from the ray's
+    /// polynomial of an earlier slab.
+    pub exact_rays: u64,
 }
 
 #[derive(Default)]
@@ -149,6 +174,7 @@ struct AtomicStats {
     simplified: AtomicU64,
     empty_tiles: AtomicU64,
     line_points: AtomicU64,
+    exact_rays: AtomicU64,
 }
 
 /// A [`TileCaster`] for a compiled model (see the module docs).
@@ -184,6 +210,12 @@ pub struct ModelCaster {
     /// the axis one once per depth; the same values). Default on; off for
     /// comparisons.
     pub lines: bool,
+    /// Whether the slabs of a frustum where the (shortened) tape is a
+    /// polynomial of degree 2 in the point (a quadric) have their rays'
+    /// crossings solved in closed form from 3 samples each, and checked by
+    /// the value and gradient there, not sampled and searched (see the
+    /// module docs). Default on; off for comparisons.
+    pub exact: bool,
     stats: AtomicStats,
     /// Per-thread evaluators and buffers, reused from tile to tile.
     pool: Mutex<Vec<Scratch>>,
@@ -205,6 +237,7 @@ impl ModelCaster {
             narrow_px: 4.0,
             prune_after: 3,
             lines: true,
+            exact: true,
             stats: AtomicStats::default(),
             pool: Mutex::new(Vec::new()),
         }
@@ -224,6 +257,7 @@ impl ModelCaster {
             narrow_px: 4.0,
             prune_after: 3,
             lines: true,
+            exact: true,
             stats: AtomicStats::default(),
             pool: Mutex::new(Vec::new()),
         }
@@ -250,6 +284,7 @@ impl ModelCaster {
             simplified: self.stats.simplified.load(Ordering::Relaxed),
             empty_tiles: self.stats.empty_tiles.load(Ordering::Relaxed),
             line_points: self.stats.line_points.load(Ordering::Relaxed),
+            exact_rays: self.stats.exact_rays.load(Ordering::Relaxed),
         }
     }
 
@@ -347,6 +382,7 @@ impl ModelCaster {
             .fetch_add(stats.empty_tiles, Ordering::Relaxed);
         s.line_points
             .fetch_add(stats.line_points, Ordering::Relaxed);
+        s.exact_rays.fetch_add(stats.exact_rays, Ordering::Relaxed);
         any_hit
     }
 }
@@ -360,6 +396,10 @@ struct Evals {
     mask: ChoiceMask,
     interval: IntervalEval,
     batch: Option<BatchEval>,
+    /// Whether the field is a polynomial of degree 2 in the point
+    /// ([`Tape::polynomial_degree`]), so along every ray one of degree at
+    /// most 2 that three samples give (see [`TileCtx::exact`]).
+    exact: bool,
 }
 
 impl Evals {
@@ -367,6 +407,7 @@ impl Evals {
         Evals {
             interval: IntervalEval::new(&tape),
             mask: ChoiceMask::new(&tape, SimplifyMode::Sign),
+            exact: tape.polynomial_degree() == Some(2),
             tape,
             batch: None,
         }
@@ -446,6 +487,17 @@ struct Scratch {
     grad_regs: GradRegs,
     /// Per ray of the current leaf: (tile ray index, lo depth, hi depth).
     leaf_rays: Vec<(usize, f64, f64)>,
+    /// The rays [`TileCtx::exact`] found no crossing on, and their depth
+    /// ranges while they are set aside (see [`TileCtx::node`]).
+    settled: Vec<usize>,
+    hidden: Vec<(usize, f64, f64)>,
+    /// [`TileCtx::exact`]'s rays to sample.
+    fresh: Vec<(usize, f64, f64)>,
+    /// Per ray of the tile, its polynomial on the last exact evaluator it
+    /// was sampled on (entries of earlier tiles are stale by their tag).
+    polys: Vec<RayPoly>,
+    /// Counts the tiles this scratch cast.
+    tile_gen: u64,
     brackets: Vec<Bracket>,
     /// Rays whose first sample is inside: (ray, depth, at the model box
     /// entry).
@@ -539,6 +591,11 @@ impl Scratch {
             inv_len: Vec::new(),
             grad_regs: GradRegs::default(),
             leaf_rays: Vec::new(),
+            settled: Vec::new(),
+            hidden: Vec::new(),
+            fresh: Vec::new(),
+            polys: Vec::new(),
+            tile_gen: 0,
             brackets: Vec::new(),
             direct: Vec::new(),
             searches: Vec::new(),
@@ -890,6 +947,133 @@ impl Bracket {
     }
 }
 
+/// Where a polynomial along a ray first reaches `f ≥ 0` (see
+/// [`RayPoly::first_root`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Root {
+    /// At this depth.
+    At(f64),
+    /// Nowhere in the range: it stays below `0` by more than rounding.
+    None,
+    /// Within rounding of `0` without a clear crossing (a graze), or
+    /// below `0` at the start by no more than rounding.
+    Unsure,
+}
+
+/// The field along one ray on one evaluator whose tape is a polynomial of
+/// degree at most 2 in the point ([`Tape::polynomial_degree`]), so along the
+/// ray a polynomial of degree at most 2 in the depth:
+/// `q(s) = a s² + b s + c` in the fraction `s = (z − lo) / w` of the slab
+/// it was sampled over. It holds for the whole ray, not only that slab:
+/// a later slab of the ray on the same evaluator needs no samples.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+struct RayPoly {
+    /// The tile's [`Scratch::tile_gen`] (high 32 bits) and the evaluator
+    /// plus 1 (0: none yet).
+    tag: u64,
+    lo: f64,
+    w: f64,
+    a: f64,
+    b: f64,
+    c: f64,
+    /// The largest magnitude sampled: the scale of rounding errors.
+    scale: f64,
+}
+
+impl RayPoly {
+    /// The polynomial through the values `[f0, fm, f1]` (finite) at `lo`,
+    /// the middle and `hi`.
+    fn fit(tag: u64, lo: f64, hi: f64, [f0, fm, f1]: [f64; 3]) -> RayPoly {
+        RayPoly {
+            tag,
+            lo,
+            w: hi - lo,
+            a: 2.0 * (f1 - 2.0 * fm + f0),
+            b: 4.0 * fm - 3.0 * f0 - f1,
+            c: f0,
+            scale: f0.abs().max(fm.abs()).max(f1.abs()),
+        }
+    }
+
+    fn at_s(&self, s: f64) -> f64 {
+        (self.a * s + self.b) * s + self.c
+    }
+
+    fn s_of(&self, z: f64) -> f64 {
+        if self.w > 0.0 {
+            (z - self.lo) / self.w
+        } else {
+            0.0
+        }
+    }
+
+    /// The value at depth `z`.
+    fn at(&self, z: f64) -> f64 {
+        self.at_s(self.s_of(z))
+    }
+
+    /// The rounding error of values at fractions within `[s0, s1]`, taken
+    /// as `1e-9` of the samples' scale, growing with the square of the
+    /// distance from the sampled slab.
+    fn tol_s(&self, s0: f64, s1: f64) -> f64 {
+        1e-9 * self.scale * s0.abs().max(s1.abs()).max(1.0).powi(2)
+    }
+
+    /// [`RayPoly::tol_s`] between depths `za` and `zb`.
+    fn tol(&self, za: f64, zb: f64) -> f64 {
+        self.tol_s(self.s_of(za), self.s_of(zb))
+    }
+
+    /// The first depth in `(za, zb]` where `q ≥ 0`, given `q(za) < 0` by
+    /// more than rounding ([`RayPoly::tol`]; else [`Root::Unsure`]).
+    fn first_root(&self, za: f64, zb: f64) -> Root {
+        let valid = self.w > 0.0 && za <= zb;
+        if !valid {
+            return Root::Unsure;
+        }
+        let (s0, s1) = (self.s_of(za), self.s_of(zb));
+        let tol = self.tol_s(s0, s1);
+        let q0 = self.at_s(s0);
+        if q0 >= -tol || q0.is_nan() {
+            return Root::Unsure;
+        }
+        let (a, b, c) = (self.a, self.b, self.c);
+        let mut first = f64::INFINITY;
+        if a == 0.0 {
+            if b > 0.0 {
+                first = -c / b;
+            }
+        } else {
+            let disc = b * b - 4.0 * a * c;
+            if disc >= 0.0 {
+                // Both roots without cancellation: q/a and c/q.
+                let q = -0.5 * (b + disc.sqrt().copysign(b));
+                for r in [q / a, c / q] {
+                    if r > s0 && r < first {
+                        first = r;
+                    }
+                }
+            }
+        }
+        if first <= s1 {
+            return Root::At((self.lo + self.w * first).clamp(za, zb));
+        }
+        // No root in the range: its largest value there, against rounding.
+        let mut top = q0.max(self.at_s(s1));
+        if a < 0.0 {
+            let s = -b / (2.0 * a);
+            if s > s0 && s < s1 {
+                top = top.max(self.at_s(s));
+            }
+        }
+        if top < -tol {
+            Root::None
+        } else {
+            Root::Unsure
+        }
+    }
+}
+
 /// NaN (outside) as −∞, for comparing samples.
 #[inline]
 fn ord(v: f64) -> f64 {
@@ -1019,6 +1203,14 @@ impl<'a> TileCtx<'a> {
         sc.tails.resize(sc.rays.len(), Tail::default());
         sc.misses.clear();
         sc.misses.resize(sc.rays.len(), (0, 0));
+        if sc.polys.len() < sc.rays.len() {
+            sc.polys.resize(sc.rays.len(), RayPoly::default());
+        }
+        sc.tile_gen += 1;
+        if sc.tile_gen > u64::from(u32::MAX) {
+            sc.tile_gen = 1;
+            sc.polys.fill(RayPoly::default());
+        }
         TileCtx {
             caster,
             rm,
@@ -1052,7 +1244,7 @@ impl<'a> TileCtx<'a> {
             y1: self.tile.h(),
         };
         let k = self.corners(rect);
-        self.node(0, rect, &k, zmin, zmax, None);
+        self.node(0, rect, &k, zmin, zmax, None, true);
         // Rays whose last samples rose to the end of their last slab.
         for i in 0..self.sc.rays.len() {
             if self.sc.tails[i].pending && !self.sc.resolved(i) {
@@ -1211,8 +1403,20 @@ impl<'a> TileCtx<'a> {
     /// evaluator `e`. `held`: the [`Scratch::epoch`] at which `rect` was
     /// last seen to hold an unresolved ray (by its parent, for a depth
     /// half): while no ray was resolved since, a view whose rays all share
-    /// one depth range needs no pass over the rays.
-    fn node(&mut self, e: usize, rect: Rect, k: &Corners, za: f64, zb: f64, held: Option<u64>) {
+    /// one depth range needs no pass over the rays. `exact`: whether
+    /// [`TileCtx::exact`] may settle the node (not below a node where it
+    /// left rays unsure).
+    #[allow(clippy::too_many_arguments)]
+    fn node(
+        &mut self,
+        e: usize,
+        rect: Rect,
+        k: &Corners,
+        za: f64,
+        zb: f64,
+        held: Option<u64>,
+        exact: bool,
+    ) {
         if self.caster.cancelled() {
             return;
         }
@@ -1247,28 +1451,204 @@ impl<'a> TileCtx<'a> {
         // shortened is the tile's: kept for checks of whole rays).
         let e = self.shorten(e);
         self.top.get_or_insert(e);
+        if !(exact && self.caster.exact && self.sc.evals[e].exact) {
+            self.split(e, rect, k, za, zb, held, exact);
+            return;
+        }
+        if rect.size() > LEAF {
+            // Rectangles of leaf size over the whole slab: the interval
+            // evaluations of the quadrants drop the rays far from the
+            // surface (beside a wall) before any is sampled.
+            for q in rect.quadrants() {
+                let kq = self.corners(q);
+                self.node(e, q, &kq, za, zb, None, exact);
+            }
+            return;
+        }
+        if self.exact(e, rect, za, zb) {
+            return;
+        }
+        // Some rays were left unsure (a crossing that did not check out, a
+        // graze): those alone are searched the usual way, the others set
+        // aside meanwhile (their slab has no crossing).
+        let mut hidden = std::mem::take(&mut self.sc.hidden);
+        hidden.clear();
+        let sc = &mut *self.sc;
+        for &i in &sc.settled {
+            hidden.push((i, sc.z0s[i], sc.z1s[i]));
+            sc.z0s[i] = f64::INFINITY;
+            sc.z1s[i] = f64::NEG_INFINITY;
+        }
+        sc.epoch += 1;
+        self.split(e, rect, k, za, zb, None, false);
+        for &(i, z0, z1) in &hidden {
+            (self.sc.z0s[i], self.sc.z1s[i]) = (z0, z1);
+        }
+        self.sc.epoch += 1;
+        self.sc.hidden = hidden;
+    }
+
+    /// The rest of [`TileCtx::node`] (its box neither outside nor inside
+    /// throughout, `e` shortened for it): split it, or sample it as a leaf.
+    #[allow(clippy::too_many_arguments)]
+    fn split(
+        &mut self,
+        e: usize,
+        rect: Rect,
+        k: &Corners,
+        za: f64,
+        zb: f64,
+        held: Option<u64>,
+        exact: bool,
+    ) {
         let s = rect.size();
         let cell = s as f64 * self.footprint(za).max(1e-300);
         if zb - za > 2.0 * cell {
             // Interval bisection along the frustum.
             let zm = 0.5 * (za + zb);
-            self.node(e, rect, k, za, zm, held);
-            self.node(e, rect, k, zm, zb, held);
+            self.node(e, rect, k, za, zm, held, exact);
+            self.node(e, rect, k, zm, zb, held, exact);
         } else if s > LEAF {
             let zm = 0.5 * (za + zb);
             for q in rect.quadrants() {
                 let kq = self.corners(q);
-                self.node(e, q, &kq, za, zm, None);
-                self.node(e, q, &kq, zm, zb, None);
+                self.node(e, q, &kq, za, zm, None, exact);
+                self.node(e, q, &kq, zm, zb, None, exact);
             }
         } else if zb - za > self.caster.leaf_depth_px * self.footprint(za) {
             // Thin the leaf's slab further: interval evaluations on short
             // tapes are cheaper than sampling every ray of the leaf.
             let zm = 0.5 * (za + zb);
-            self.node(e, rect, k, za, zm, held);
-            self.node(e, rect, k, zm, zb, held);
+            self.node(e, rect, k, za, zm, held, exact);
+            self.node(e, rect, k, zm, zb, held, exact);
         } else if let Some((za, zb)) = self.narrow(e, rect, k, za, zb) {
             self.leaf(e, rect, za, zb);
+        }
+    }
+
+    /// Settles the slab `[za, zb]` of `rect`'s rays on evaluator `e`, whose
+    /// field is a polynomial of degree at most `n` (1 or 2) along every ray:
+    /// each ray is sampled at `n + 1` depths, which give that polynomial,
+    /// and its first crossing (`f ≥ 0`) is found in closed form
+    /// ([`first_root`]) and checked: the field is evaluated
+    /// [`EXACT_CHECK_PX`] footprints either side, and where it is outside
+    /// before and inside after, that bracket is refined and recorded as a
+    /// sampled one is. A ray inside at its first sample is a direct hit; one
+    /// whose polynomial stays clearly outside over the slab has no crossing
+    /// there (it goes on behind, its tail set as a sampled slab's). Returns
+    /// whether every ray was settled so; if not, the rays with no crossing
+    /// are in [`Scratch::settled`] and the others (a crossing that did not
+    /// check out, a ray grazing the surface, a value not finite) are left
+    /// unresolved.
+    fn exact(&mut self, e: usize, rect: Rect, za: f64, zb: f64) -> bool {
+        self.sc.settled.clear();
+        let rays = self.gather(rect, za, zb, true);
+        if rays.is_empty() {
+            self.sc.leaf_rays = rays;
+            return true;
+        }
+        let tag = (self.sc.tile_gen << 32) | (e as u64 + 1);
+        let mut fresh = std::mem::take(&mut self.sc.fresh);
+        fresh.clear();
+        let mut sure = true;
+        // Rays whose polynomial on this evaluator is known from an earlier
+        // slab: no samples.
+        for &(i, lo, hi) in &rays {
+            let p = self.sc.polys[i];
+            if p.tag != tag || !self.settle(&p, e, i, lo, hi) {
+                fresh.push((i, lo, hi));
+            }
+        }
+        if !fresh.is_empty() {
+            self.sample(e, &fresh, 2);
+            let vals = std::mem::take(&mut self.sc.vals);
+            for (j, &(i, lo, hi)) in fresh.iter().enumerate() {
+                let v = &vals[3 * j..3 * j + 3];
+                if v[0] >= 0.0 {
+                    self.sc.direct.push((i, lo, lo <= self.sc.rays[i].z0));
+                    continue;
+                }
+                if v.iter().any(|f| !f.is_finite()) {
+                    sure = false;
+                    continue;
+                }
+                let p = RayPoly::fit(tag, lo, hi, [v[0], v[1], v[2]]);
+                self.sc.polys[i] = p;
+                sure &= self.settle(&p, e, i, lo, hi);
+            }
+            self.sc.vals = vals;
+        }
+        self.sc.fresh = fresh;
+        self.finish(e);
+        self.prune_rays();
+        self.sc.leaf_rays = rays;
+        sure
+    }
+
+    /// Ray `i`'s part `[lo, hi]` of an exact slab on evaluator `e`, by its
+    /// polynomial `p` ([`TileCtx::exact`]). A crossing becomes a bracket
+    /// [`EXACT_BRACKET_PX`] footprints either side of it, with the
+    /// polynomial's values at its ends where both are clear of rounding (it
+    /// is refined and recorded as a sampled one is: the value and gradient
+    /// at its false-position point check it). No crossing puts the ray in
+    /// [`Scratch::settled`] and sets its tail as a sampled slab would; where
+    /// the polynomial has no crossing on the rest of the ray either, the
+    /// ray is due for the whole-ray check of [`ModelCaster::prune_after`]
+    /// if the slabs left would likely cost more. `false`: unsure (nothing
+    /// recorded).
+    fn settle(&mut self, p: &RayPoly, e: usize, i: usize, lo: f64, hi: f64) -> bool {
+        self.stats.exact_rays += 1;
+        match p.first_root(lo, hi) {
+            Root::At(z) => {
+                let d = EXACT_BRACKET_PX * self.rm.pixel_footprint(z);
+                let (a, b) = ((z - d).max(lo), (z + d).min(hi));
+                let (fa, fb) = (p.at(a), p.at(b));
+                let tol = p.tol(a, b);
+                let clear = fa < -tol && fb > tol;
+                if !clear {
+                    return false;
+                }
+                self.sc.brackets.push(Bracket {
+                    ray: i,
+                    lo: a,
+                    hi: b,
+                    f_lo: fa,
+                    f_hi: fb,
+                    kept: 0,
+                });
+                true
+            }
+            Root::None => {
+                let zm = 0.5 * (lo + hi);
+                let sc = &mut *self.sc;
+                sc.tails[i] = Tail {
+                    valid: true,
+                    pending: false,
+                    ev: e as u32,
+                    z_prev: zm,
+                    f_prev: p.at(zm),
+                    z_last: hi,
+                };
+                sc.settled.push(i);
+                let z1 = sc.rays[i].z1;
+                if self.caster.prune_after > 0 && hi < z1 && hi > lo {
+                    // Slabs like this one left, each a visit of about a
+                    // sampled ray's cost, against one interval evaluation
+                    // of the tile's tape, weighed by the checks' success.
+                    let slabs = (z1 - hi) / (hi - lo);
+                    let visit = 3.0 * sc.evals[e].tape.len() as f64;
+                    let check = INTERVAL_COST * sc.evals[self.top.unwrap_or(0)].tape.len() as f64;
+                    let odds = (sc.prune_hit as f64 + 1.0) / (sc.prune_tried as f64 + 2.0);
+                    if slabs * visit * odds > check && p.first_root(hi, z1) == Root::None {
+                        sc.prune.push((i, hi));
+                    }
+                }
+                true
+            }
+            Root::Unsure => {
+                self.stats.exact_rays -= 1;
+                false
+            }
         }
     }
 
@@ -1670,15 +2050,15 @@ impl<'a> TileCtx<'a> {
         self.sc.hit_rays = hit_rays;
     }
 
-    fn leaf(&mut self, e: usize, rect: Rect, za: f64, zb: f64) {
-        let step = self.caster.step_px.max(1e-3) * self.footprint(za).max(1e-300);
-        let n = (((zb - za) / step).ceil() as usize).clamp(1, 4096);
-        let min_len = self.min_len(step, za);
-        // The live unresolved rays of the leaf that reach its slab (a
-        // resolved or dead ray's range is `[+∞, −∞]`). Pending segments not
-        // followed by this slab are searched first (they are in front).
-        let mut leaf_rays = std::mem::take(&mut self.sc.leaf_rays);
-        leaf_rays.clear();
+    /// The live unresolved rays of `rect` that reach the slab `[za, zb]`
+    /// (a resolved or dead ray's range is `[+∞, −∞]`), as (ray, its part of
+    /// the slab). Pending segments in front of the slab, not followed by it,
+    /// are searched first (with `all_tails`, those it follows on from too),
+    /// and the rays they resolve left out. The buffer is
+    /// [`Scratch::leaf_rays`]'s: the caller puts it back.
+    fn gather(&mut self, rect: Rect, za: f64, zb: f64, all_tails: bool) -> Vec<(usize, f64, f64)> {
+        let mut rays = std::mem::take(&mut self.sc.leaf_rays);
+        rays.clear();
         for y in rect.y0..rect.y1 {
             let row = (y * self.tw) as usize;
             for i in row + rect.x0 as usize..row + rect.x1 as usize {
@@ -1688,35 +2068,38 @@ impl<'a> TileCtx<'a> {
                     continue;
                 }
                 let t = &mut sc.tails[i];
-                if t.pending && t.z_last != za.max(z0) {
+                if t.pending && (all_tails || t.z_last != za.max(z0)) {
                     t.pending = false;
                     let t = *t;
                     sc.tail_list.push((i, t));
                 }
-                leaf_rays.push((i, za.max(z0), zb.min(z1)));
+                rays.push((i, za.max(z0), zb.min(z1)));
             }
         }
         if !self.sc.tail_list.is_empty() {
             self.search_tails();
             let sc = &*self.sc;
-            leaf_rays.retain(|&(i, _, _)| sc.z0s[i] <= zb);
+            rays.retain(|&(i, _, _)| sc.z0s[i] <= zb);
         }
-        if leaf_rays.is_empty() {
-            self.sc.leaf_rays = leaf_rays;
-            return;
-        }
-        // Sample every ray at n + 1 depths, all rays in one batch.
+        rays
+    }
+
+    /// Samples each of `rays` (ray, lo, hi) at the `n + 1` depths
+    /// `lo + (hi − lo)·k/n`, all in one batch on evaluator `e` (as lines
+    /// where the view allows): ray `j`'s values are `vals[j·(n+1)..]`, its
+    /// fractions `fracs`.
+    fn sample(&mut self, e: usize, rays: &[(usize, f64, f64)], n: usize) {
         let sc = &mut *self.sc;
         sc.fracs.clear();
         sc.fracs.extend((0..n + 1).map(|k| k as f64 / n as f64));
-        let total = leaf_rays.len() * (n + 1);
+        let total = rays.len() * (n + 1);
         sc.set_points(total);
         {
             let fr = &sc.fracs[..];
             let xs = sc.xs[..total].chunks_exact_mut(n + 1);
             let ys = sc.ys[..total].chunks_exact_mut(n + 1);
             let zs = sc.zs[..total].chunks_exact_mut(n + 1);
-            for (((&(i, lo, hi), xs), ys), zs) in leaf_rays.iter().zip(xs).zip(ys).zip(zs) {
+            for (((&(i, lo, hi), xs), ys), zs) in rays.iter().zip(xs).zip(ys).zip(zs) {
                 let r = &sc.rays[i];
                 let d = hi - lo;
                 let m = fr.len();
@@ -1734,7 +2117,7 @@ impl<'a> TileCtx<'a> {
         match self.lines {
             Some((axis, grid)) => {
                 debug_assert!(
-                    sc.sampling(axis, &leaf_rays, n + 1)
+                    sc.sampling(axis, rays, n + 1)
                         >= if grid {
                             Sampling::Grid
                         } else {
@@ -1747,6 +2130,20 @@ impl<'a> TileCtx<'a> {
             }
             None => sc.eval_points(e, &self.caster.inputs),
         }
+    }
+
+    fn leaf(&mut self, e: usize, rect: Rect, za: f64, zb: f64) {
+        let step = self.caster.step_px.max(1e-3) * self.footprint(za).max(1e-300);
+        let n = (((zb - za) / step).ceil() as usize).clamp(1, 4096);
+        let min_len = self.min_len(step, za);
+        let leaf_rays = self.gather(rect, za, zb, false);
+        if leaf_rays.is_empty() {
+            self.sc.leaf_rays = leaf_rays;
+            return;
+        }
+        // Sample every ray at n + 1 depths, all rays in one batch.
+        self.sample(e, &leaf_rays, n);
+        let sc = &mut *self.sc;
         let vals = std::mem::take(&mut sc.vals);
         let prune_after = self.caster.prune_after;
         // Relative costs of sampling a ray over one more leaf slab and of
@@ -2416,5 +2813,64 @@ fn ambient_occlusion(
             }
         }
         ao[i] = 1.0 - occ;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The polynomial through `f` sampled at `lo`, the middle and `hi`.
+    fn fit(f: impl Fn(f64) -> f64, lo: f64, hi: f64) -> RayPoly {
+        RayPoly::fit(1, lo, hi, [f(lo), f(0.5 * (lo + hi)), f(hi)])
+    }
+
+    fn at(r: Root) -> f64 {
+        match r {
+            Root::At(z) => z,
+            other => panic!("{other:?}"),
+        }
+    }
+
+    #[test]
+    fn first_root_of_a_quadratic() {
+        // Enters at 2, leaves at 3: the first crossing, inside the slab.
+        let q = |z: f64| -(z - 2.0) * (z - 3.0);
+        let p = fit(q, 1.0, 4.0);
+        assert!((at(p.first_root(1.0, 4.0)) - 2.0).abs() < 1e-12);
+        // Both roots between the samples (all three outside): still found.
+        let p = fit(q, 0.0, 5.0);
+        assert!(q(0.0) < 0.0 && q(2.5) > 0.0 && q(5.0) < 0.0);
+        let p0 = fit(q, -1.0, 0.9);
+        assert!(q(-1.0) < 0.0 && q(-0.05) < 0.0 && q(0.9) < 0.0);
+        assert!((at(p.first_root(0.0, 5.0)) - 2.0).abs() < 1e-12);
+        // From a slab in front of them, for a later slab: no samples.
+        assert_eq!(p0.first_root(-1.0, 0.9), Root::None);
+        assert!((at(p0.first_root(0.9, 2.5)) - 2.0).abs() < 1e-9);
+        assert_eq!(p0.first_root(3.5, 9.0), Root::None);
+        // Linear (a plane) and constant (beside a wall) along the ray.
+        let p = fit(|z| z - 1.25, 0.0, 2.0);
+        assert!((at(p.first_root(0.0, 2.0)) - 1.25).abs() < 1e-12);
+        assert_eq!(p.first_root(0.0, 1.0), Root::None);
+        let p = fit(|_| -0.5, 0.0, 2.0);
+        assert_eq!(p.first_root(0.0, 100.0), Root::None);
+    }
+
+    #[test]
+    fn grazes_are_unsure() {
+        // Touching 0 at 2 without crossing, and within rounding of it.
+        for top in [0.0, -1e-13] {
+            let p = fit(|z: f64| top - (z - 2.0) * (z - 2.0), 1.0, 3.0);
+            assert_eq!(p.first_root(1.0, 1.5), Root::None, "{top}");
+            assert!(matches!(p.first_root(1.0, 3.0), Root::Unsure | Root::At(_)));
+            if top < 0.0 {
+                assert_eq!(p.first_root(1.0, 3.0), Root::Unsure);
+            }
+        }
+        // Starting at 0 (not clearly outside), or an empty slab.
+        let p = fit(|z| z, 0.0, 1.0);
+        assert_eq!(p.first_root(0.0, 1.0), Root::Unsure);
+        let p = RayPoly::fit(1, 1.0, 1.0, [-1.0, -1.0, -1.0]);
+        assert_eq!(p.first_root(1.0, 1.0), Root::Unsure);
     }
 }
