@@ -1597,7 +1597,13 @@ impl<'a> TileCtx<'a> {
     /// if the slabs left would likely cost more. `false`: unsure (nothing
     /// recorded).
     fn settle(&mut self, p: &RayPoly, e: usize, i: usize, lo: f64, hi: f64) -> bool {
-        self.stats.exact_rays += 1;
+        let settled = self.settle_by(p, e, i, lo, hi);
+        self.stats.exact_rays += u64::from(settled);
+        settled
+    }
+
+    /// [`TileCtx::settle`] without the count.
+    fn settle_by(&mut self, p: &RayPoly, e: usize, i: usize, lo: f64, hi: f64) -> bool {
         match p.first_root(lo, hi) {
             Root::At(z) => {
                 let d = EXACT_BRACKET_PX * self.rm.pixel_footprint(z);
@@ -1620,6 +1626,7 @@ impl<'a> TileCtx<'a> {
             }
             Root::None => {
                 let zm = 0.5 * (lo + hi);
+                let (check, odds) = self.whole_ray_check();
                 let sc = &mut *self.sc;
                 sc.tails[i] = Tail {
                     valid: true,
@@ -1637,19 +1644,24 @@ impl<'a> TileCtx<'a> {
                     // of the tile's tape, weighed by the checks' success.
                     let slabs = (z1 - hi) / (hi - lo);
                     let visit = 3.0 * sc.evals[e].tape.len() as f64;
-                    let check = INTERVAL_COST * sc.evals[self.top.unwrap_or(0)].tape.len() as f64;
-                    let odds = (sc.prune_hit as f64 + 1.0) / (sc.prune_tried as f64 + 2.0);
                     if slabs * visit * odds > check && p.first_root(hi, z1) == Root::None {
                         sc.prune.push((i, hi));
                     }
                 }
                 true
             }
-            Root::Unsure => {
-                self.stats.exact_rays -= 1;
-                false
-            }
+            Root::Unsure => false,
         }
+    }
+
+    /// The cost of a whole-ray check (one interval evaluation of the
+    /// tile's tape, by tape lengths; see [`ModelCaster::prune_after`]), and
+    /// the chance that one succeeds, from this thread's checks so far.
+    fn whole_ray_check(&self) -> (f64, f64) {
+        let sc = &*self.sc;
+        let cost = INTERVAL_COST * sc.evals[self.top.unwrap_or(0)].tape.len() as f64;
+        let odds = (sc.prune_hit as f64 + 1.0) / (sc.prune_tried as f64 + 2.0);
+        (cost, odds)
     }
 
     /// The field of evaluator `e` over box `b` (counted).
@@ -2150,9 +2162,8 @@ impl<'a> TileCtx<'a> {
         // one interval evaluation of the tile's tape, by tape lengths.
         let slab = self.caster.leaf_depth_px * self.footprint(za).max(1e-300);
         let sample_cost = (n + 1) as f64 * self.sc.evals[e].tape.len() as f64;
-        let check_cost = INTERVAL_COST * self.sc.evals[self.top.unwrap_or(0)].tape.len() as f64;
         // Weighed by the chance that a check succeeds, so far.
-        let odds = (self.sc.prune_hit as f64 + 1.0) / (self.sc.prune_tried as f64 + 2.0);
+        let (check_cost, odds) = self.whole_ray_check();
         let sample_cost = sample_cost * odds;
         let mut resolve_first = std::mem::take(&mut self.sc.resolve_first);
         for (j, &(i, lo, hi)) in leaf_rays.iter().enumerate() {
