@@ -465,6 +465,34 @@ impl Tape {
     /// in `t`, up to rounding, so a ray caster may find its crossings in
     /// closed form (and check them), not by sampling.
     pub fn polynomial_degree(&self) -> Option<u32> {
+        let deg = self.degrees();
+        self.outputs.first().and_then(|o| deg[o.index()])
+    }
+
+    /// `Some(k)` where output 0 is `k − sqrt(p)`, `k` a positive constant
+    /// and `p` a polynomial of degree 2 in the point (see
+    /// [`Tape::polynomial_degree`]): a sphere or a cylinder written as a
+    /// distance, `r − |x − c|`. Wherever `f = k − sqrt(p)` is defined,
+    /// `f·(2k − f) = k² − p` has its sign (`2k − f = k + sqrt(p) > 0`) and is a
+    /// polynomial of degree 2, so along a ray a ray caster may find `f`'s
+    /// crossings in closed form from samples of `f`.
+    pub fn root_gap(&self) -> Option<f64> {
+        let out = self.outputs.first()?;
+        let Node::Binary(BinaryOp::Sub, k, r) = self.nodes[out.index()] else {
+            return None;
+        };
+        let k = self.nodes[k.index()]
+            .const_value()
+            .filter(|k| *k > 0.0 && k.is_finite())?;
+        let Node::Unary(UnaryOp::Sqrt | UnaryOp::SqrtF, p) = self.nodes[r.index()] else {
+            return None;
+        };
+        (self.degrees()[p.index()] == Some(2)).then_some(k)
+    }
+
+    /// Per node, its degree as a polynomial in the point, where it is one
+    /// ([`Tape::polynomial_degree`]).
+    fn degrees(&self) -> Vec<Option<u32>> {
         const MAX: u32 = 64;
         let mut deg: Vec<Option<u32>> = Vec::with_capacity(self.nodes.len());
         for n in &self.nodes {
@@ -496,7 +524,7 @@ impl Tape {
             };
             deg.push(v.filter(|&v| v <= MAX));
         }
-        self.outputs.first().and_then(|o| deg[o.index()])
+        deg
     }
 
     /// For each node, the position of its last use (its own position when
@@ -601,6 +629,45 @@ mod tests {
         assert_eq!(deg(&g, sq), None);
         let m = g.binary(BinaryOp::Max, sphere, plane);
         assert_eq!(deg(&g, m), None);
+    }
+
+    #[test]
+    fn root_gaps() {
+        let mut g = Graph::new();
+        let [x, y, z] = [0, 1, 2].map(|i| g.x(i));
+        let gap = |g: &Graph, f: NodeId| g.tape(&[f]).root_gap();
+        // 0.8 − sqrt(x² + y² + z²), M1's sphere.
+        let x2 = g.pow_int(x, 2);
+        let y2 = g.pow_int(y, 2);
+        let z2 = g.pow_int(z, 2);
+        let p = g.binary(BinaryOp::Add, x2, y2);
+        let p3 = g.binary(BinaryOp::Add, p, z2);
+        let k = g.constant(0.8);
+        for op in [UnaryOp::Sqrt, UnaryOp::SqrtF] {
+            let r = g.unary(op, p3);
+            let f = g.binary(BinaryOp::Sub, k, r);
+            assert_eq!(gap(&g, f), Some(0.8));
+        }
+        // A cylinder, sqrt(x² + y²).
+        let r = g.unary(UnaryOp::Sqrt, p);
+        let f = g.binary(BinaryOp::Sub, k, r);
+        assert_eq!(gap(&g, f), Some(0.8));
+        // Not of the form: a non-positive or point-dependent `k`, a root of
+        // degree 1 or 4, the reversed difference.
+        let r = g.unary(UnaryOp::Sqrt, p3);
+        for k in [g.constant(0.0), g.constant(-1.0), g.param(0), z] {
+            let f = g.binary(BinaryOp::Sub, k, r);
+            assert_eq!(gap(&g, f), None);
+        }
+        let f = g.binary(BinaryOp::Sub, r, k);
+        assert_eq!(gap(&g, f), None);
+        let lin = g.unary(UnaryOp::Sqrt, x);
+        let f = g.binary(BinaryOp::Sub, k, lin);
+        assert_eq!(gap(&g, f), None);
+        let p4 = g.pow_int(p3, 2);
+        let r4 = g.unary(UnaryOp::Sqrt, p4);
+        let f = g.binary(BinaryOp::Sub, k, r4);
+        assert_eq!(gap(&g, f), None);
     }
 
     #[test]

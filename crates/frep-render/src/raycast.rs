@@ -396,10 +396,13 @@ struct Evals {
     mask: ChoiceMask,
     interval: IntervalEval,
     batch: Option<BatchEval>,
-    /// Whether the field is a polynomial of degree 2 in the point
-    /// ([`Tape::polynomial_degree`]), so along every ray one of degree at
-    /// most 2 that three samples give (see [`TileCtx::exact`]).
-    exact: bool,
+    /// Where the field along every ray is a polynomial of degree at most 2,
+    /// up to a map that keeps its sign, so that three samples give it (see
+    /// [`TileCtx::exact`]): `Some(0.0)` where the field is a polynomial of
+    /// degree 2 in the point ([`Tape::polynomial_degree`]), `Some(k)` where
+    /// it is `k − sqrt(p)` with `p` one ([`Tape::root_gap`]; samples `f` map
+    /// to `f·(2k − f) = k² − p`).
+    exact: Option<f64>,
 }
 
 impl Evals {
@@ -407,7 +410,11 @@ impl Evals {
         Evals {
             interval: IntervalEval::new(&tape),
             mask: ChoiceMask::new(&tape, SimplifyMode::Sign),
-            exact: tape.polynomial_degree() == Some(2),
+            exact: if tape.polynomial_degree() == Some(2) {
+                Some(0.0)
+            } else {
+                tape.root_gap()
+            },
             tape,
             batch: None,
         }
@@ -966,6 +973,10 @@ enum Root {
 /// `q(s) = a s² + b s + c` in the fraction `s = (z − lo) / w` of the slab
 /// it was sampled over. It holds for the whole ray, not only that slab:
 /// a later slab of the ray on the same evaluator needs no samples.
+///
+/// Where the tape is `k − sqrt(p)` instead ([`Tape::root_gap`]), `q` is
+/// that of `f·(2k − f) = k² − p`, which has the field's sign
+/// ([`RayPoly::field`] maps its values back).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 struct RayPoly {
     /// The tile's [`Scratch::tile_gen`] (high 32 bits) and the evaluator
@@ -978,12 +989,20 @@ struct RayPoly {
     c: f64,
     /// The largest magnitude sampled: the scale of rounding errors.
     scale: f64,
+    /// The root gap `k` (`0`: `q` is the field's own polynomial).
+    k: f64,
 }
 
 impl RayPoly {
-    /// The polynomial through the values `[f0, fm, f1]` (finite) at `lo`,
-    /// the middle and `hi`.
-    fn fit(tag: u64, lo: f64, hi: f64, [f0, fm, f1]: [f64; 3]) -> RayPoly {
+    /// The polynomial through the field's values `[f0, fm, f1]` (finite)
+    /// at `lo`, the middle and `hi`, those mapped to `f·(2k − f)` where the
+    /// root gap `k` is positive.
+    fn fit(tag: u64, lo: f64, hi: f64, f: [f64; 3], k: f64) -> RayPoly {
+        let [f0, fm, f1] = if k > 0.0 {
+            f.map(|f| f * (2.0 * k - f))
+        } else {
+            f
+        };
         RayPoly {
             tag,
             lo,
@@ -992,6 +1011,19 @@ impl RayPoly {
             b: 4.0 * fm - 3.0 * f0 - f1,
             c: f0,
             scale: f0.abs().max(fm.abs()).max(f1.abs()),
+            k,
+        }
+    }
+
+    /// The field's value for the polynomial's value `q`: `q` itself, or
+    /// for a root gap `k` the `f ≤ k` with `f·(2k − f) = q`, which is
+    /// `q / (k + sqrt(k² − q))` (without cancellation near the surface).
+    fn field(&self, q: f64) -> f64 {
+        let k = self.k;
+        if k > 0.0 {
+            q / (k + (k * k - q).max(0.0).sqrt())
+        } else {
+            q
         }
     }
 
@@ -1451,7 +1483,7 @@ impl<'a> TileCtx<'a> {
         // shortened is the tile's: kept for checks of whole rays).
         let e = self.shorten(e);
         self.top.get_or_insert(e);
-        if !(exact && self.caster.exact && self.sc.evals[e].exact) {
+        if !(exact && self.caster.exact && self.sc.evals[e].exact.is_some()) {
             self.split(e, rect, k, za, zb, held, exact);
             return;
         }
@@ -1562,6 +1594,7 @@ impl<'a> TileCtx<'a> {
         if !fresh.is_empty() {
             self.sample(e, &fresh, 2);
             let vals = std::mem::take(&mut self.sc.vals);
+            let k = self.sc.evals[e].exact.unwrap_or(0.0);
             for (j, &(i, lo, hi)) in fresh.iter().enumerate() {
                 let v = &vals[3 * j..3 * j + 3];
                 if v[0] >= 0.0 {
@@ -1572,7 +1605,7 @@ impl<'a> TileCtx<'a> {
                     sure = false;
                     continue;
                 }
-                let p = RayPoly::fit(tag, lo, hi, [v[0], v[1], v[2]]);
+                let p = RayPoly::fit(tag, lo, hi, [v[0], v[1], v[2]], k);
                 self.sc.polys[i] = p;
                 sure &= self.settle(&p, e, i, lo, hi);
             }
@@ -1618,8 +1651,8 @@ impl<'a> TileCtx<'a> {
                     ray: i,
                     lo: a,
                     hi: b,
-                    f_lo: fa,
-                    f_hi: fb,
+                    f_lo: p.field(fa),
+                    f_hi: p.field(fb),
                     kept: 0,
                 });
                 true
@@ -1633,7 +1666,7 @@ impl<'a> TileCtx<'a> {
                     pending: false,
                     ev: e as u32,
                     z_prev: zm,
-                    f_prev: p.at(zm),
+                    f_prev: p.field(p.at(zm)),
                     z_last: hi,
                 };
                 sc.settled.push(i);
@@ -2833,7 +2866,7 @@ mod tests {
 
     /// The polynomial through `f` sampled at `lo`, the middle and `hi`.
     fn fit(f: impl Fn(f64) -> f64, lo: f64, hi: f64) -> RayPoly {
-        RayPoly::fit(1, lo, hi, [f(lo), f(0.5 * (lo + hi)), f(hi)])
+        RayPoly::fit(1, lo, hi, [f(lo), f(0.5 * (lo + hi)), f(hi)], 0.0)
     }
 
     fn at(r: Root) -> f64 {
@@ -2868,6 +2901,28 @@ mod tests {
     }
 
     #[test]
+    fn root_gaps_in_closed_form() {
+        // M1's sphere `0.8 − sqrt(x² + y² + z²)` along the z axis from
+        // z = 2 down: `0.8 − |2 − t|`, inside for t in [1.2, 2.8]. Not a
+        // polynomial in t (a kink at t = 2), but `k² − (2 − t)²` is.
+        let k = 0.8;
+        let f = |t: f64| k - (2.0 - t).abs();
+        let p = RayPoly::fit(1, 0.0, 1.0, [f(0.0), f(0.5), f(1.0)], k);
+        assert_eq!(p.first_root(0.0, 1.0), Root::None);
+        assert!((at(p.first_root(1.0, 4.0)) - 1.2).abs() < 1e-12);
+        // The polynomial's values map back to the field's.
+        for t in [0.0, 0.7, 1.2, 1.5, 2.0, 2.6] {
+            assert!((p.field(p.at(t)) - f(t)).abs() < 1e-12, "{t}");
+        }
+        // Fitted on the far side of the kink, it still gives the entry.
+        let p = RayPoly::fit(1, 2.5, 4.0, [f(2.5), f(3.25), f(4.0)], k);
+        assert!((at(p.first_root(0.0, 4.0)) - 1.2).abs() < 1e-12);
+        // Without the map, the kinked samples fit a wrong polynomial.
+        let q = RayPoly::fit(1, 0.0, 4.0, [f(0.0), f(2.0), f(4.0)], 0.0);
+        assert!(matches!(q.first_root(0.0, 4.0), Root::At(z) if (z - 1.2).abs() > 0.1));
+    }
+
+    #[test]
     fn grazes_are_unsure() {
         // Touching 0 at 2 without crossing, and within rounding of it.
         for top in [0.0, -1e-13] {
@@ -2881,7 +2936,7 @@ mod tests {
         // Starting at 0 (not clearly outside), or an empty slab.
         let p = fit(|z| z, 0.0, 1.0);
         assert_eq!(p.first_root(0.0, 1.0), Root::Unsure);
-        let p = RayPoly::fit(1, 1.0, 1.0, [-1.0, -1.0, -1.0]);
+        let p = RayPoly::fit(1, 1.0, 1.0, [-1.0, -1.0, -1.0], 0.0);
         assert_eq!(p.first_root(1.0, 1.0), Root::Unsure);
     }
 }
