@@ -402,19 +402,31 @@ struct Evals {
     /// degree 2 in the point ([`Tape::polynomial_degree`]), `Some(k)` where
     /// it is `k − sqrt(p)` with `p` one ([`Tape::root_gap`]; samples `f` map
     /// to `f·(2k − f) = k² − p`).
+    ///
+    /// Also `Some(0.0)` where the field is affine in the point (degree 1,
+    /// `affine`): its values along each ray then come from [`Evals::plane`]
+    /// without samples.
     exact: Option<f64>,
+    /// Whether the field is affine in the point (a plane).
+    affine: bool,
+    /// For an affine field, `[c, gx, gy, gz]` with `f(p) = c + g·p`, once
+    /// computed (the value and gradient at one point): `None` until then,
+    /// `Some(None)` where those were not finite.
+    plane: Option<Option<[f64; 4]>>,
 }
 
 impl Evals {
     fn new(tape: Tape) -> Evals {
+        let degree = tape.polynomial_degree();
         Evals {
             interval: IntervalEval::new(&tape),
             mask: ChoiceMask::new(&tape, SimplifyMode::Sign),
-            exact: if tape.polynomial_degree() == Some(2) {
-                Some(0.0)
-            } else {
-                tape.root_gap()
+            exact: match degree {
+                Some(1 | 2) => Some(0.0),
+                _ => tape.root_gap(),
             },
+            affine: degree == Some(1),
+            plane: None,
             tape,
             batch: None,
         }
@@ -1487,10 +1499,11 @@ impl<'a> TileCtx<'a> {
             self.split(e, rect, k, za, zb, held, exact);
             return;
         }
-        if rect.size() > LEAF {
+        if rect.size() > LEAF && !self.sc.evals[e].affine {
             // Rectangles of leaf size over the whole slab: the interval
             // evaluations of the quadrants drop the rays far from the
-            // surface (beside a wall) before any is sampled.
+            // surface (beside a wall) before any is sampled. (A plane's
+            // rays take no samples: all of the rectangle at once.)
             for q in rect.quadrants() {
                 let kq = self.corners(q);
                 self.node(e, q, &kq, za, zb, None, exact);
@@ -1592,7 +1605,20 @@ impl<'a> TileCtx<'a> {
             }
         }
         if !fresh.is_empty() {
-            self.sample(e, &fresh, 2);
+            let plane = if self.sc.evals[e].affine {
+                let (i, lo, _) = fresh[0];
+                let p0 = self.sc.rays[i].at_depth(lo);
+                self.plane(e, p0)
+            } else {
+                None
+            };
+            match plane {
+                Some(pl) => {
+                    self.plane_hits(&pl, &mut fresh);
+                    self.plane_values(&pl, &fresh);
+                }
+                None => self.sample(e, &fresh, 2),
+            }
             let vals = std::mem::take(&mut self.sc.vals);
             let k = self.sc.evals[e].exact.unwrap_or(0.0);
             for (j, &(i, lo, hi)) in fresh.iter().enumerate() {
@@ -1633,6 +1659,89 @@ impl<'a> TileCtx<'a> {
         let settled = self.settle_by(p, e, i, lo, hi);
         self.stats.exact_rays += u64::from(settled);
         settled
+    }
+
+    /// Evaluator `e`'s plane ([`Evals::plane`]; its field affine), from the
+    /// value and gradient at `p0` the first time.
+    #[inline(never)]
+    fn plane(&mut self, e: usize, p0: [f64; 3]) -> Option<[f64; 4]> {
+        if let Some(p) = self.sc.evals[e].plane {
+            return p;
+        }
+        let sc = &mut *self.sc;
+        sc.set_points(1);
+        [sc.xs[0], sc.ys[0], sc.zs[0]] = p0;
+        sc.eval_grads(e, &self.caster.inputs);
+        self.stats.grad_evals += 1;
+        let g = sc.grads[0];
+        let c = g.v - (g.dx * p0[0] + g.dy * p0[1] + g.dz * p0[2]);
+        let p = [c, g.dx, g.dy, g.dz];
+        let p = p.iter().all(|v| v.is_finite()).then_some(p);
+        sc.evals[e].plane = Some(p);
+        p
+    }
+
+    /// For an affine field `pl` ([`Evals::plane`]), records at once the hits
+    /// of the rays of `rays` (ray, lo, hi) that cross it clearly in their
+    /// slab (outside at `lo` and inside at `hi`, each by more than
+    /// rounding): at the crossing, with the plane's normal, as
+    /// [`TileCtx::polish`] would find them, without evaluating the tape.
+    /// The other rays are left in `rays` (all of them for a model with
+    /// attribute colours, whose hits are recorded with their colours).
+    #[inline(never)]
+    fn plane_hits(&mut self, pl: &[f64; 4], rays: &mut Vec<(usize, f64, f64)>) {
+        let g = [pl[1], pl[2], pl[3]];
+        let Some(normal) = unit([-g[0], -g[1], -g[2]]) else {
+            return;
+        };
+        if self.caster.attr_tape.is_some() {
+            return;
+        }
+        let mut kept = 0;
+        for j in 0..rays.len() {
+            let (i, lo, hi) = rays[j];
+            let r = self.sc.rays[i];
+            let a = pl[0] + dot(g, r.origin);
+            let b = dot(g, r.dz);
+            let (f0, f1) = (a + b * lo, a + b * hi);
+            let tol = 1e-9 * f0.abs().max(f1.abs());
+            if f0 < -tol && f1 > tol {
+                let z = (lo + (hi - lo) * (-f0 / (f1 - f0))).clamp(lo, hi);
+                let h = Hit {
+                    t: z / r.c,
+                    position: r.at_depth(z),
+                    normal,
+                    color: None,
+                };
+                self.set_hit(i, h);
+                self.stats.exact_rays += 1;
+            } else {
+                rays[kept] = rays[j];
+                kept += 1;
+            }
+        }
+        rays.truncate(kept);
+    }
+
+    /// What [`TileCtx::sample`] with `n = 2` gives `rays`, for an affine
+    /// field `pl` ([`Evals::plane`]): its values at each ray's `lo`, middle
+    /// and `hi`, in `vals`, computed without evaluating the tape.
+    #[inline(never)]
+    fn plane_values(&mut self, pl: &[f64; 4], rays: &[(usize, f64, f64)]) {
+        let sc = &mut *self.sc;
+        if sc.vals.len() < 3 * rays.len() {
+            sc.vals.resize(3 * rays.len(), 0.0);
+        }
+        let g = [pl[1], pl[2], pl[3]];
+        for (&(i, lo, hi), v) in rays.iter().zip(sc.vals.chunks_exact_mut(3)) {
+            let r = &sc.rays[i];
+            // Along the ray, f = a + b·z.
+            let a = pl[0] + dot(g, r.origin);
+            let b = dot(g, r.dz);
+            v[0] = a + b * lo;
+            v[1] = a + b * (0.5 * (lo + hi));
+            v[2] = a + b * hi;
+        }
     }
 
     /// [`TileCtx::settle`] without the count.
@@ -1791,6 +1900,8 @@ impl<'a> TileCtx<'a> {
             }
         }
         self.search_tails();
+        let mut hit_rays = std::mem::take(&mut self.sc.hit_rays);
+        hit_rays.clear();
         for y in rect.y0..rect.y1 {
             for x in rect.x0..rect.x1 {
                 let i = (y * self.tw + x) as usize;
@@ -1801,9 +1912,12 @@ impl<'a> TileCtx<'a> {
                 let z = za.max(r.z0);
                 let hit = self.make_hit(i, z, z <= r.z0);
                 self.set_hit(i, hit);
+                hit_rays.push(i);
             }
         }
         self.flush_normals(e);
+        self.colors(&hit_rays);
+        self.sc.hit_rays = hit_rays;
     }
 
     /// The hit of ray `i` at depth `z`; its normal is the model box face's

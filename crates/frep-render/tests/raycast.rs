@@ -805,3 +805,69 @@ fn exact_slabs_match_sampling() {
         }
     }
 }
+
+/// Planes take no samples: where the tape shortened for a box is affine in
+/// the point (a slab's faces, a cap, a sloped plane in a perspective view),
+/// each ray's crossing is computed from the plane's coefficients and the
+/// hit recorded with the plane's normal, no gradient evaluated per hit.
+/// The hits are those of sampling, at the same depths and with the same
+/// normals; a model with attribute colours gets its colours on every hit
+/// (also where a box is inside throughout, which once had none).
+#[test]
+fn planes_take_no_samples() {
+    let slab = "my_model(x[3], a[1]) { my_model = (0.5 - x[3]) & (x[3] + 1); }";
+    let sloped = "my_model(x[3], a[1]) { my_model = (0.3 - 0.4 * x[1] - x[3]) & (x[3] + 1); }";
+    let coloured = "my_model(x[3], a[1], s[3]) { s[1] = 0.2; s[2] = 0.5; s[3] = x[1]; \
+                    my_model = (0.5 - x[3]) & (x[3] + 1); }";
+    let b = Aabb::new([-1.0, -1.0, -1.2], [1.0, 1.0, 1.2]);
+    let (w, h) = (64, 64);
+    for (name, src) in [("slab", slab), ("sloped", sloped), ("coloured", coloured)] {
+        let model = Model::compile(src).unwrap();
+        for (yaw, pitch, fov) in [(0.0, 90.0, None), (30.0, 50.0, Some(30.0))] {
+            let s = RenderSettings {
+                yaw,
+                pitch,
+                fov,
+                ..settings(b, w, h)
+            };
+            let cam = s.camera();
+            let cast = |exact: bool| {
+                let mut c = ModelCaster::new(&model, Inputs::default(), b);
+                c.exact = exact;
+                (cast_tiled(&c, &cam, w, h, 16), c.stats())
+            };
+            let ((on, on_st), (off, off_st)) = (cast(true), cast(false));
+            let hits = off.hit_count();
+            assert!(hits > 1000, "{name} yaw {yaw}: {hits} hits");
+            assert_eq!(on.hit_count(), hits, "{name} yaw {yaw}");
+            for (a, o) in on.hits.iter().zip(&off.hits) {
+                let (Some(a), Some(o)) = (a, o) else {
+                    assert_eq!(a.is_some(), o.is_some());
+                    continue;
+                };
+                assert!((a.t - o.t).abs() <= 1e-9, "{name}: at {} and {}", a.t, o.t);
+                for k in 0..3 {
+                    assert!((a.normal[k] - o.normal[k]).abs() <= 1e-9, "{name}: normals");
+                }
+                let (ca, co) = (a.color.unwrap_or([9.0; 3]), o.color.unwrap_or([9.0; 3]));
+                let near = (0..3).all(|k| (ca[k] - co[k]).abs() <= 1e-6);
+                assert!(near, "{name}: colours {ca:?} and {co:?}");
+            }
+            if name == "coloured" {
+                // Every hit, those at the model box's faces (inside boxes)
+                // included.
+                assert!(on.hits.iter().flatten().all(|h| h.color.is_some()));
+                assert!(off.hits.iter().flatten().all(|h| h.color.is_some()));
+            } else {
+                // Sampling evaluates a gradient per hit found by a
+                // crossing; the plane's hits need none, nor samples.
+                assert!(off_st.point_evals > 2 * hits as u64, "{off_st:?}");
+                assert_eq!(on_st.point_evals, 0, "{name} yaw {yaw}: {on_st:?}");
+                assert!(
+                    on_st.grad_evals * 8 < hits as u64,
+                    "{name} yaw {yaw}: {on_st:?}, {hits} hits"
+                );
+            }
+        }
+    }
+}
