@@ -49,16 +49,21 @@
 //!    depth: the box is split into leaf-sized rectangles over its whole
 //!    slab (the quadrants' interval evaluations drop the rays far from the
 //!    surface), each ray is sampled at its slab's ends and middle, and its
-//!    first crossing is solved in closed form; a bracket of 1/8 of a
-//!    footprint either side of it is resolved
-//!    with the others (the value and gradient at its false-position point
-//!    check it). The polynomial holds for the whole ray on that tape, so a
+//!    first crossing is solved in closed form; where the polynomial is
+//!    clearly outside 1/8 of a footprint before it and inside 1/8 after,
+//!    it is the hit (its normal by the gradient there). The same holds
+//!    for a tape `k − sqrt(p)` with `p` such a polynomial
+//!    ([`Tape::root_gap`]: its samples `f` map to `f·(2k − f) = k² − p`,
+//!    of the same sign). The polynomial holds for the whole ray on that tape, so a
 //!    later slab of the ray on the same tape takes no samples; where it has
 //!    no crossing on the rest of the ray either, the whole-ray check of
 //!    step 4 is made at once where likely to pay. A ray the closed form
 //!    leaves unsure (a graze within rounding of the surface, a value not
-//!    finite) is sampled as above. Planes (degree 1) are left to sampling,
-//!    which was cheaper there (the leaf's narrowing finds them exactly).
+//!    finite) is sampled as above. Planes (degree 1) take no samples at
+//!    all: the plane's coefficients come from one value and gradient, the
+//!    box's whole rectangle is taken at once, and each ray that clearly
+//!    crosses the plane in its slab gets its hit there with the plane's
+//!    normal.
 //! 3. **Thin features.** A ray whose samples show no crossing although the
 //!    leaf is ambiguous can only hide a feature thinner than a step around a
 //!    local maximum of its samples; that segment is checked with one
@@ -132,8 +137,9 @@ const REFINE_PX: f64 = 1.0 / 16.0;
 /// [`TileCtx::polish`]).
 const POLISH_PX: f64 = 1.0 / 64.0;
 
-/// [`TileCtx::exact`] brackets a crossing it computed this many pixel
-/// footprints either side of it.
+/// [`TileCtx::exact`] takes a crossing it computed as the hit where its
+/// polynomial is clearly outside this many pixel footprints before it and
+/// inside as many after.
 const EXACT_BRACKET_PX: f64 = 1.0 / 8.0;
 
 /// The largest image the renderer accepts: 16 384 pixels a side and 64
@@ -1575,10 +1581,10 @@ impl<'a> TileCtx<'a> {
     /// field is a polynomial of degree at most `n` (1 or 2) along every ray:
     /// each ray is sampled at `n + 1` depths, which give that polynomial,
     /// and its first crossing (`f ≥ 0`) is found in closed form
-    /// ([`first_root`]) and checked: the field is evaluated
-    /// [`EXACT_CHECK_PX`] footprints either side, and where it is outside
-    /// before and inside after, that bracket is refined and recorded as a
-    /// sampled one is. A ray inside at its first sample is a direct hit; one
+    /// ([`RayPoly::first_root`]) and checked: where the polynomial is
+    /// outside [`EXACT_BRACKET_PX`] footprints before it and inside as many
+    /// after, it is the hit. A ray inside at its first sample is a direct
+    /// hit; one
     /// whose polynomial stays clearly outside over the slab has no crossing
     /// there (it goes on behind, its tail set as a sampled slab's). Returns
     /// whether every ray was settled so; if not, the rays with no crossing
@@ -1645,11 +1651,10 @@ impl<'a> TileCtx<'a> {
     }
 
     /// Ray `i`'s part `[lo, hi]` of an exact slab on evaluator `e`, by its
-    /// polynomial `p` ([`TileCtx::exact`]). A crossing becomes a bracket
-    /// [`EXACT_BRACKET_PX`] footprints either side of it, with the
-    /// polynomial's values at its ends where both are clear of rounding (it
-    /// is refined and recorded as a sampled one is: the value and gradient
-    /// at its false-position point check it). No crossing puts the ray in
+    /// polynomial `p` ([`TileCtx::exact`]). A crossing is the hit where the
+    /// polynomial's values [`EXACT_BRACKET_PX`] footprints either side of
+    /// it are both clear of rounding (recorded as a direct hit: its normal
+    /// by the gradient there). No crossing puts the ray in
     /// [`Scratch::settled`] and sets its tail as a sampled slab would; where
     /// the polynomial has no crossing on the rest of the ray either, the
     /// ray is due for the whole-ray check of [`ModelCaster::prune_after`]
@@ -1756,14 +1761,9 @@ impl<'a> TileCtx<'a> {
                 if !clear {
                     return false;
                 }
-                self.sc.brackets.push(Bracket {
-                    ray: i,
-                    lo: a,
-                    hi: b,
-                    f_lo: p.field(fa),
-                    f_hi: p.field(fb),
-                    kept: 0,
-                });
+                // The hit, its normal by the gradient there (as a direct
+                // hit's).
+                self.sc.direct.push((i, z, false));
                 true
             }
             Root::None => {
