@@ -1578,19 +1578,21 @@ impl<'a> TileCtx<'a> {
     }
 
     /// Settles the slab `[za, zb]` of `rect`'s rays on evaluator `e`, whose
-    /// field is a polynomial of degree at most `n` (1 or 2) along every ray:
-    /// each ray is sampled at `n + 1` depths, which give that polynomial,
-    /// and its first crossing (`f ≥ 0`) is found in closed form
+    /// field along every ray is a polynomial of degree at most 2, up to a
+    /// map that keeps its sign ([`Evals::exact`]): each ray is sampled at
+    /// its slab's ends and middle, which give that polynomial (for a plane
+    /// the values come from its coefficients, and the rays that clearly
+    /// cross it are hits at once: [`TileCtx::plane_hits`]), and its first
+    /// crossing (`f ≥ 0`) is found in closed form
     /// ([`RayPoly::first_root`]) and checked: where the polynomial is
     /// outside [`EXACT_BRACKET_PX`] footprints before it and inside as many
     /// after, it is the hit. A ray inside at its first sample is a direct
-    /// hit; one
-    /// whose polynomial stays clearly outside over the slab has no crossing
-    /// there (it goes on behind, its tail set as a sampled slab's). Returns
-    /// whether every ray was settled so; if not, the rays with no crossing
-    /// are in [`Scratch::settled`] and the others (a crossing that did not
-    /// check out, a ray grazing the surface, a value not finite) are left
-    /// unresolved.
+    /// hit; one whose polynomial stays clearly outside over the slab has no
+    /// crossing there (it goes on behind, its tail set as a sampled slab's).
+    /// Returns whether every ray was settled so; if not, the rays with no
+    /// crossing are in [`Scratch::settled`] and the others (a crossing that
+    /// did not check out, a ray grazing the surface, a value not finite)
+    /// are left unresolved.
     fn exact(&mut self, e: usize, rect: Rect, za: f64, zb: f64) -> bool {
         self.sc.settled.clear();
         let rays = self.gather(rect, za, zb, true);
@@ -1689,8 +1691,9 @@ impl<'a> TileCtx<'a> {
     /// For an affine field `pl` ([`Evals::plane`]), records at once the hits
     /// of the rays of `rays` (ray, lo, hi) that cross it clearly in their
     /// slab (outside at `lo` and inside at `hi`, each by more than
-    /// rounding): at the crossing, with the plane's normal, as
-    /// [`TileCtx::polish`] would find them, without evaluating the tape.
+    /// rounding): at the crossing, with the plane's normal (the hit and
+    /// normal sampling and [`TileCtx::polish`] find there), without
+    /// evaluating the tape.
     /// The other rays are left in `rays` (all of them for a model with
     /// attribute colours, whose hits are recorded with their colours).
     #[inline(never)]
