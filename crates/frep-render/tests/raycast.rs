@@ -15,8 +15,8 @@ use frep_core::eval::batch::BatchEval;
 use frep_core::eval::Inputs;
 use frep_core::Model;
 use frep_render::{
-    ascii_mask, cast_tiled, render, render_hits, shade, Aabb, Camera, HitBuffer, ModelCaster,
-    RenderError, RenderSettings,
+    ascii_mask, cast_tiled, render, render_hits, shade, Aabb, Camera, CastStats, HitBuffer,
+    ModelCaster, RenderError, RenderSettings,
 };
 
 fn example(name: &str) -> String {
@@ -724,6 +724,22 @@ fn empty_tiles_are_skipped_whole() {
     }
 }
 
+/// `model` cast at `w`×`h` in 16² tiles with the closed form on and off
+/// ([`ModelCaster::exact`]), with each cast's counters.
+fn cast_exact_on_off(
+    model: &Model,
+    b: Aabb,
+    cam: &Camera,
+    w: u32,
+    h: u32,
+) -> [(HitBuffer, CastStats); 2] {
+    [true, false].map(|exact| {
+        let mut c = ModelCaster::new(model, Inputs::default(), b);
+        c.exact = exact;
+        (cast_tiled(&c, cam, w, h, 16), c.stats())
+    })
+}
+
 /// Slabs settled in closed form where the shortened tape is a polynomial of
 /// degree 2 ([`ModelCaster::exact`]) give the hits of sampling them: on
 /// every example, in a top view along an axis and two perspective views,
@@ -754,19 +770,14 @@ fn exact_slabs_match_sampling() {
         let b = bounds_of(&src);
         let mut exact_rays = 0;
         for (yaw, pitch, fov) in views {
-            let s = RenderSettings {
+            let cam = RenderSettings {
                 yaw,
                 pitch,
                 fov,
                 ..settings(b, w, h)
-            };
-            let cam = s.camera();
-            let cast = |exact: bool| {
-                let mut c = ModelCaster::new(&model, Inputs::default(), b);
-                c.exact = exact;
-                (cast_tiled(&c, &cam, w, h, 16), c.stats())
-            };
-            let ((on, on_st), (off, off_st)) = (cast(true), cast(false));
+            }
+            .camera();
+            let [(on, on_st), (off, off_st)] = cast_exact_on_off(&model, b, &cam, w, h);
             assert_eq!(off_st.exact_rays, 0);
             exact_rays += on_st.exact_rays;
             let mut differ = 0;
@@ -824,19 +835,14 @@ fn planes_take_no_samples() {
     for (name, src) in [("slab", slab), ("sloped", sloped), ("coloured", coloured)] {
         let model = Model::compile(src).unwrap();
         for (yaw, pitch, fov) in [(0.0, 90.0, None), (30.0, 50.0, Some(30.0))] {
-            let s = RenderSettings {
+            let cam = RenderSettings {
                 yaw,
                 pitch,
                 fov,
                 ..settings(b, w, h)
-            };
-            let cam = s.camera();
-            let cast = |exact: bool| {
-                let mut c = ModelCaster::new(&model, Inputs::default(), b);
-                c.exact = exact;
-                (cast_tiled(&c, &cam, w, h, 16), c.stats())
-            };
-            let ((on, on_st), (off, off_st)) = (cast(true), cast(false));
+            }
+            .camera();
+            let [(on, on_st), (off, off_st)] = cast_exact_on_off(&model, b, &cam, w, h);
             let hits = off.hit_count();
             assert!(hits > 1000, "{name} yaw {yaw}: {hits} hits");
             assert_eq!(on.hit_count(), hits, "{name} yaw {yaw}");
