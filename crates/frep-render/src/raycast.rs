@@ -48,22 +48,27 @@
 //!    field along every ray is a polynomial of degree at most 2 in the
 //!    depth: the box is split into leaf-sized rectangles over its whole
 //!    slab (the quadrants' interval evaluations drop the rays far from the
-//!    surface), each ray is sampled at its slab's ends and middle, and its
-//!    first crossing is solved in closed form; where the polynomial is
-//!    clearly outside 1/8 of a footprint before it and inside 1/8 after,
-//!    it is the hit (its normal by the gradient there). The same holds
-//!    for a tape `k − sqrt(p)` with `p` such a polynomial
-//!    ([`Tape::root_gap`]: its samples `f` map to `f·(2k − f) = k² − p`,
-//!    of the same sign). The polynomial holds for the whole ray on that tape, so a
-//!    later slab of the ray on the same tape takes no samples; where it has
-//!    no crossing on the rest of the ray either, the whole-ray check of
-//!    step 4 is made at once where likely to pay. A ray the closed form
-//!    leaves unsure (a graze within rounding of the surface, a value not
-//!    finite) is sampled as above. Planes (degree 1) take no samples at
-//!    all: the plane's coefficients come from one value and gradient, the
-//!    box's whole rectangle is taken at once, and each ray that clearly
-//!    crosses the plane in its slab gets its hit there with the plane's
-//!    normal.
+//!    surface), and each ray's first crossing is solved in closed form;
+//!    where the polynomial is clearly outside 1/8 of a footprint before it
+//!    and inside 1/8 after, it is the hit. The same holds for a tape
+//!    `k − sqrt(p)` with `p` such a polynomial ([`Tape::root_gap`]: its
+//!    values `f` map to `f·(2k − f) = k² − p`, of the same sign). The
+//!    quadric's coefficients come from the values and gradients at four
+//!    points, once per shortened tape; each ray's polynomial
+//!    then comes from them and the hit's normal from the quadric's
+//!    gradient: no samples and no gradient evaluation per ray (for a model
+//!    with attribute colours the normals are evaluated with the colours;
+//!    where the four points give no quadric, a value not finite there,
+//!    each ray is sampled at its slab's ends and middle instead). The
+//!    polynomial holds for the whole ray on that tape, so a later slab of
+//!    the ray on the same tape needs nothing new; where it has no crossing
+//!    on the rest of the ray either, the whole-ray check of step 4 is made
+//!    at once where likely to pay. A ray the closed form leaves unsure (a
+//!    graze within rounding of the surface, a value not finite) is sampled
+//!    as above. Planes (degree 1) likewise: the plane's coefficients come
+//!    from one value and gradient, the box's whole rectangle is taken at
+//!    once, and each ray that clearly crosses the plane in its slab gets
+//!    its hit there with the plane's normal.
 //! 3. **Thin features.** A ray whose samples show no crossing although the
 //!    leaf is ambiguous can only hide a feature thinner than a step around a
 //!    local maximum of its samples; that segment is checked with one
@@ -419,6 +424,52 @@ struct Evals {
     /// computed (the value and gradient at one point): `None` until then,
     /// `Some(None)` where those were not finite.
     plane: Option<Option<[f64; 4]>>,
+    /// For a field of degree 2 or a root gap (`exact`, not `affine`), the
+    /// quadric with its sign ([`Quadric`]), once computed: `None` until
+    /// then, `Some(None)` where it could not be (values not finite).
+    quadric: Option<Option<Quadric>>,
+}
+
+/// A polynomial of degree 2 in the point, about a point `p0`:
+/// `q(p0 + u) = c + g·u + uᵀ·A·u` (`a` symmetric). For a field of degree 2
+/// it is the field; for a root gap `k − sqrt(p)` it is `k² − p`, which has
+/// the field's sign and, on the surface, the direction of its gradient
+/// (`∇q = 2(k − f)·∇f`). Along a ray `p = o + dz·z` it is a polynomial of
+/// degree 2 in the depth: no samples are needed ([`TileCtx::exact`]).
+#[derive(Clone, Copy, Debug)]
+struct Quadric {
+    p0: [f64; 3],
+    c: f64,
+    g: [f64; 3],
+    a: [[f64; 3]; 3],
+}
+
+impl Quadric {
+    /// `(α, β, γ)` with `q(o + dz·z) = α z² + β z + γ` along ray `r`.
+    #[inline]
+    fn along(&self, r: &RayInfo) -> (f64, f64, f64) {
+        let w = sub(r.origin, self.p0);
+        let a = &self.a;
+        let ad = [dot(a[0], r.dz), dot(a[1], r.dz), dot(a[2], r.dz)];
+        let aw = [dot(a[0], w), dot(a[1], w), dot(a[2], w)];
+        (
+            dot(r.dz, ad),
+            2.0 * dot(w, ad) + dot(self.g, r.dz),
+            self.c + dot(self.g, w) + dot(w, aw),
+        )
+    }
+
+    /// `∇q` at `p`.
+    #[inline]
+    fn grad(&self, p: [f64; 3]) -> [f64; 3] {
+        let u = sub(p, self.p0);
+        let a = &self.a;
+        [
+            self.g[0] + 2.0 * dot(a[0], u),
+            self.g[1] + 2.0 * dot(a[1], u),
+            self.g[2] + 2.0 * dot(a[2], u),
+        ]
+    }
 }
 
 impl Evals {
@@ -433,6 +484,7 @@ impl Evals {
             },
             affine: degree == Some(1),
             plane: None,
+            quadric: None,
             tape,
             batch: None,
         }
@@ -1012,15 +1064,10 @@ struct RayPoly {
 }
 
 impl RayPoly {
-    /// The polynomial through the field's values `[f0, fm, f1]` (finite)
-    /// at `lo`, the middle and `hi`, those mapped to `f·(2k − f)` where the
-    /// root gap `k` is positive.
-    fn fit(tag: u64, lo: f64, hi: f64, f: [f64; 3], k: f64) -> RayPoly {
-        let [f0, fm, f1] = if k > 0.0 {
-            f.map(|f| f * (2.0 * k - f))
-        } else {
-            f
-        };
+    /// The polynomial through the values `[f0, fm, f1]` (finite) at `lo`,
+    /// the middle and `hi`: the field's, or where the root gap `k` is
+    /// positive those of `f·(2k − f)` ([`RayPoly::map`]).
+    fn fit(tag: u64, lo: f64, hi: f64, [f0, fm, f1]: [f64; 3], k: f64) -> RayPoly {
         RayPoly {
             tag,
             lo,
@@ -1030,6 +1077,40 @@ impl RayPoly {
             c: f0,
             scale: f0.abs().max(fm.abs()).max(f1.abs()),
             k,
+        }
+    }
+
+    /// The polynomial of ray `r` on the quadric `quad` (its own, not
+    /// fitted to samples), in the fraction of the slab `[lo, hi]`.
+    #[inline]
+    fn of_quadric(tag: u64, lo: f64, hi: f64, quad: &Quadric, r: &RayInfo, k: f64) -> RayPoly {
+        let (al, be, ga) = quad.along(r);
+        let w = hi - lo;
+        let (a, b, c) = (
+            al * w * w,
+            (2.0 * al * lo + be) * w,
+            (al * lo + be) * lo + ga,
+        );
+        let (qm, q1) = (0.25 * a + 0.5 * b + c, a + b + c);
+        RayPoly {
+            tag,
+            lo,
+            w,
+            a,
+            b,
+            c,
+            scale: c.abs().max(qm.abs()).max(q1.abs()),
+            k,
+        }
+    }
+
+    /// The polynomial's value for the field's value `f`: `f` itself, or
+    /// for a root gap `k` `f·(2k − f)`.
+    fn map(f: f64, k: f64) -> f64 {
+        if k > 0.0 {
+            f * (2.0 * k - f)
+        } else {
+            f
         }
     }
 
@@ -1579,10 +1660,11 @@ impl<'a> TileCtx<'a> {
 
     /// Settles the slab `[za, zb]` of `rect`'s rays on evaluator `e`, whose
     /// field along every ray is a polynomial of degree at most 2, up to a
-    /// map that keeps its sign ([`Evals::exact`]): each ray is sampled at
-    /// its slab's ends and middle, which give that polynomial (for a plane
-    /// the values come from its coefficients, and the rays that clearly
-    /// cross it are hits at once: [`TileCtx::plane_hits`]), and its first
+    /// map that keeps its sign ([`Evals::exact`]): each ray's polynomial
+    /// comes from the quadric's coefficients ([`TileCtx::quadric`]; for a
+    /// plane from its values, and the rays that clearly cross it are hits
+    /// at once: [`TileCtx::plane_hits`]), or where those are not to be had
+    /// from samples at its slab's ends and middle, and its first
     /// crossing (`f ≥ 0`) is found in closed form
     /// ([`RayPoly::first_root`]) and checked: where the polynomial is
     /// outside [`EXACT_BRACKET_PX`] footprints before it and inside as many
@@ -1613,37 +1695,42 @@ impl<'a> TileCtx<'a> {
             }
         }
         if !fresh.is_empty() {
-            let plane = if self.sc.evals[e].affine {
-                let (i, lo, _) = fresh[0];
-                let p0 = self.sc.rays[i].at_depth(lo);
-                self.plane(e, p0)
-            } else {
+            let (i, lo, _) = fresh[0];
+            let p0 = self.sc.rays[i].at_depth(lo);
+            let (affine, k) = (
+                self.sc.evals[e].affine,
+                self.sc.evals[e].exact.unwrap_or(0.0),
+            );
+            let quad = if affine {
                 None
+            } else {
+                let b = &self.caster.bounds;
+                let h = 0.25 * (0..3).map(|a| b.max[a] - b.min[a]).fold(0.0, f64::max);
+                self.quadric(e, p0, h)
             };
-            match plane {
-                Some(pl) => {
-                    self.plane_hits(&pl, &mut fresh);
-                    self.plane_values(&pl, &fresh);
+            if let Some(quad) = quad {
+                // Each ray's polynomial from the quadric: no samples.
+                for &(i, lo, hi) in &fresh {
+                    let p = RayPoly::of_quadric(tag, lo, hi, &quad, &self.sc.rays[i], k);
+                    sure &= self.take_poly(p, e, i, lo, hi);
                 }
-                None => self.sample(e, &fresh, 2),
+            } else {
+                match if affine { self.plane(e, p0) } else { None } {
+                    Some(pl) => {
+                        self.plane_hits(&pl, &mut fresh);
+                        self.plane_values(&pl, &fresh);
+                    }
+                    None => self.sample(e, &fresh, 2),
+                }
+                let vals = std::mem::take(&mut self.sc.vals);
+                for (j, &(i, lo, hi)) in fresh.iter().enumerate() {
+                    let v = [vals[3 * j], vals[3 * j + 1], vals[3 * j + 2]];
+                    let q = v.map(|f| RayPoly::map(f, k));
+                    let p = RayPoly::fit(tag, lo, hi, q, k);
+                    sure &= self.take_poly(p, e, i, lo, hi);
+                }
+                self.sc.vals = vals;
             }
-            let vals = std::mem::take(&mut self.sc.vals);
-            let k = self.sc.evals[e].exact.unwrap_or(0.0);
-            for (j, &(i, lo, hi)) in fresh.iter().enumerate() {
-                let v = &vals[3 * j..3 * j + 3];
-                if v[0] >= 0.0 {
-                    self.sc.direct.push((i, lo, lo <= self.sc.rays[i].z0));
-                    continue;
-                }
-                if v.iter().any(|f| !f.is_finite()) {
-                    sure = false;
-                    continue;
-                }
-                let p = RayPoly::fit(tag, lo, hi, [v[0], v[1], v[2]], k);
-                self.sc.polys[i] = p;
-                sure &= self.settle(&p, e, i, lo, hi);
-            }
-            self.sc.vals = vals;
         }
         self.sc.fresh = fresh;
         self.finish(e);
@@ -1652,11 +1739,29 @@ impl<'a> TileCtx<'a> {
         sure
     }
 
+    /// Ray `i`'s fresh polynomial `p` over its part `[lo, hi]` of an exact
+    /// slab on evaluator `e`: inside at `lo` is a direct hit there; values
+    /// not finite leave the ray unsure (`false`); otherwise `p` is kept
+    /// for the ray's later slabs and [`TileCtx::settle`] takes it.
+    fn take_poly(&mut self, p: RayPoly, e: usize, i: usize, lo: f64, hi: f64) -> bool {
+        if p.c >= 0.0 {
+            self.sc.direct.push((i, lo, lo <= self.sc.rays[i].z0));
+            return true;
+        }
+        if !(p.scale.is_finite() && p.a.is_finite() && p.b.is_finite()) {
+            return false;
+        }
+        self.sc.polys[i] = p;
+        self.settle(&p, e, i, lo, hi)
+    }
+
     /// Ray `i`'s part `[lo, hi]` of an exact slab on evaluator `e`, by its
     /// polynomial `p` ([`TileCtx::exact`]). A crossing is the hit where the
     /// polynomial's values [`EXACT_BRACKET_PX`] footprints either side of
-    /// it are both clear of rounding (recorded as a direct hit: its normal
-    /// by the gradient there). No crossing puts the ray in
+    /// it are both clear of rounding: recorded at once with the quadric's
+    /// normal where `e` has one ([`Evals::quadric`]) and no colour is due,
+    /// else as a direct hit (its normal by the gradient there). No
+    /// crossing puts the ray in
     /// [`Scratch::settled`] and sets its tail as a sampled slab would; where
     /// the polynomial has no crossing on the rest of the ray either, the
     /// ray is due for the whole-ray check of [`ModelCaster::prune_after`]
@@ -1686,6 +1791,66 @@ impl<'a> TileCtx<'a> {
         let p = p.iter().all(|v| v.is_finite()).then_some(p);
         sc.evals[e].plane = Some(p);
         p
+    }
+
+    /// Evaluator `e`'s quadric ([`Evals::quadric`]; its field of degree 2
+    /// or a root gap), the first time from the values and gradients at
+    /// `p0` and at `h` from it along each axis (a quadric's gradient is
+    /// affine: its differences give `A` exactly but for rounding). `None`
+    /// where those are not finite or the values there do not agree with
+    /// the quadric (by more than `1e-9` of their scale).
+    #[inline(never)]
+    fn quadric(&mut self, e: usize, p0: [f64; 3], h: f64) -> Option<Quadric> {
+        if let Some(q) = self.sc.evals[e].quadric {
+            return q;
+        }
+        let k = self.sc.evals[e].exact.unwrap_or(0.0);
+        let sc = &mut *self.sc;
+        sc.set_points(4);
+        for j in 0..4 {
+            let mut p = p0;
+            if j > 0 {
+                p[j - 1] += h;
+            }
+            [sc.xs[j], sc.ys[j], sc.zs[j]] = p;
+        }
+        sc.eval_grads(e, &self.caster.inputs);
+        self.stats.grad_evals += 4;
+        // Values and gradients of q: the field's, or for a root gap `k`
+        // those of f·(2k − f).
+        let qs: [(f64, [f64; 3]); 4] = std::array::from_fn(|j| {
+            let g = sc.grads[j];
+            let grad = [g.dx, g.dy, g.dz];
+            if k > 0.0 {
+                let s = 2.0 * (k - g.v);
+                (g.v * (2.0 * k - g.v), grad.map(|d| s * d))
+            } else {
+                (g.v, grad)
+            }
+        });
+        let (c, g) = qs[0];
+        let mut a = [[0.0; 3]; 3];
+        for (i, row) in a.iter_mut().enumerate() {
+            for (j, v) in row.iter_mut().enumerate() {
+                let dij = qs[j + 1].1[i] - g[i];
+                let dji = qs[i + 1].1[j] - g[j];
+                *v = (dij + dji) / (4.0 * h);
+            }
+        }
+        let quad = Quadric { p0, c, g, a };
+        let finite = qs
+            .iter()
+            .all(|(v, g)| v.is_finite() && g.iter().all(|d| d.is_finite()));
+        // The values at the other points, against the quadric's.
+        let agree = (1..4).all(|j| {
+            let (v, _) = qs[j];
+            let want = c + g[j - 1] * h + a[j - 1][j - 1] * h * h;
+            let scale = c.abs().max(v.abs()).max(g[j - 1].abs() * h);
+            (v - want).abs() <= 1e-9 * scale
+        });
+        let quad = (finite && agree).then_some(quad);
+        sc.evals[e].quadric = Some(quad);
+        quad
     }
 
     /// For an affine field `pl` ([`Evals::plane`]), records at once the hits
@@ -1764,8 +1929,26 @@ impl<'a> TileCtx<'a> {
                 if !clear {
                     return false;
                 }
-                // The hit, its normal by the gradient there (as a direct
-                // hit's).
+                // The hit: its normal the quadric's where that is known
+                // (and no colour is due), else by the gradient there (as a
+                // direct hit's).
+                let quad = self.sc.evals[e].quadric.flatten();
+                if let Some(quad) = quad.filter(|_| self.caster.attr_tape.is_none()) {
+                    let r = self.sc.rays[i];
+                    let position = r.at_depth(z);
+                    let g = quad.grad(position);
+                    if let Some(normal) = unit([-g[0], -g[1], -g[2]]) {
+                        let t = z / r.c;
+                        let h = Hit {
+                            t,
+                            position,
+                            normal,
+                            color: None,
+                        };
+                        self.set_hit(i, h);
+                        return true;
+                    }
+                }
                 self.sc.direct.push((i, z, false));
                 true
             }
@@ -3024,7 +3207,8 @@ mod tests {
         // polynomial in t (a kink at t = 2), but `k² − (2 − t)²` is.
         let k = 0.8;
         let f = |t: f64| k - (2.0 - t).abs();
-        let p = RayPoly::fit(1, 0.0, 1.0, [f(0.0), f(0.5), f(1.0)], k);
+        let q = |t: f64| RayPoly::map(f(t), k);
+        let p = RayPoly::fit(1, 0.0, 1.0, [q(0.0), q(0.5), q(1.0)], k);
         assert_eq!(p.first_root(0.0, 1.0), Root::None);
         assert!((at(p.first_root(1.0, 4.0)) - 1.2).abs() < 1e-12);
         // The polynomial's values map back to the field's.
@@ -3032,7 +3216,7 @@ mod tests {
             assert!((p.field(p.at(t)) - f(t)).abs() < 1e-12, "{t}");
         }
         // Fitted on the far side of the kink, it still gives the entry.
-        let p = RayPoly::fit(1, 2.5, 4.0, [f(2.5), f(3.25), f(4.0)], k);
+        let p = RayPoly::fit(1, 2.5, 4.0, [q(2.5), q(3.25), q(4.0)], k);
         assert!((at(p.first_root(0.0, 4.0)) - 1.2).abs() < 1e-12);
         // Without the map, the kinked samples fit a wrong polynomial.
         let q = RayPoly::fit(1, 0.0, 4.0, [f(0.0), f(2.0), f(4.0)], 0.0);

@@ -12,6 +12,7 @@ use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 
 use frep_core::eval::batch::BatchEval;
+use frep_core::eval::grad::GradEval;
 use frep_core::eval::Inputs;
 use frep_core::Model;
 use frep_render::{
@@ -871,6 +872,103 @@ fn planes_take_no_samples() {
                 assert_eq!(on_st.point_evals, 0, "{name} yaw {yaw}: {on_st:?}");
                 assert!(
                     on_st.grad_evals * 8 < hits as u64,
+                    "{name} yaw {yaw}: {on_st:?}, {hits} hits"
+                );
+            }
+        }
+    }
+}
+
+/// Quadrics take no samples: where the tape shortened for a box is a
+/// polynomial of degree 2 in the point (a sphere, a sloped ellipsoid, a
+/// cylinder) or a root gap `k − sqrt(p)` (M1's form), each ray's polynomial
+/// comes from the quadric's coefficients and a crossing that checks out is
+/// the hit with the quadric's normal: no point evaluations and no gradient
+/// per hit. The hits are sampling's (the same pixels, depths within 1/16 of
+/// a footprint, normals within 1e-3); a model with attribute colours gets
+/// its colours on every hit.
+#[test]
+fn quadrics_take_no_samples() {
+    let models = [
+        (
+            "sphere",
+            "my_model(x[3], a[1]) { my_model = 0.8 - x[1]^2 - x[2]^2 - x[3]^2; }",
+        ),
+        (
+            "ellipsoid",
+            "my_model(x[3], a[1]) { my_model = 0.6 - (x[1] - 0.1)^2 - 2 * x[2]^2 \
+             - 0.5 * x[3]^2 - 0.4 * x[1] * x[3]; }",
+        ),
+        (
+            "cylinder",
+            "my_model(x[3], a[1]) { my_model = 0.5 - x[1]^2 - x[2]^2; }",
+        ),
+        (
+            "root gap",
+            "my_model(x[3], a[1]) { my_model = 0.8 - sqrt(x[1]^2 + x[2]^2 + x[3]^2); }",
+        ),
+        (
+            "coloured",
+            "my_model(x[3], a[1], s[3]) { s[1] = 0.2; s[2] = 0.5; s[3] = x[1]; \
+             my_model = 0.8 - x[1]^2 - x[2]^2 - x[3]^2; }",
+        ),
+    ];
+    let b = Aabb::new([-1.0, -1.0, -1.2], [1.0, 1.0, 1.2]);
+    let (w, h) = (64, 64);
+    for (name, src) in models {
+        let model = Model::compile(src).unwrap();
+        let mut grad = GradEval::new(&model.tape());
+        for (yaw, pitch, fov) in [(0.0, 90.0, None), (30.0, 50.0, Some(30.0))] {
+            let cam = RenderSettings {
+                yaw,
+                pitch,
+                fov,
+                ..settings(b, w, h)
+            }
+            .camera();
+            let [(on, on_st), (off, off_st)] = cast_exact_on_off(&model, b, &cam, w, h);
+            let hits = off.hit_count();
+            assert!(hits > 300, "{name} yaw {yaw}: {hits} hits");
+            let mut differ = 0;
+            for (a, o) in on.hits.iter().zip(&off.hits) {
+                let (Some(a), Some(o)) = (a, o) else {
+                    differ += usize::from(a.is_some() != o.is_some());
+                    continue;
+                };
+                let fp = cam.pixel_footprint(o.t, w, h);
+                assert!(
+                    (a.t - o.t).abs() <= fp / 16.0,
+                    "{name}: at {} and {}",
+                    a.t,
+                    o.t
+                );
+                let (ca, co) = (a.color.unwrap_or([9.0; 3]), o.color.unwrap_or([9.0; 3]));
+                let near = (0..3).all(|k| (ca[k] - co[k]).abs() <= 1e-3);
+                assert!(near, "{name}: colours {ca:?} and {co:?}");
+                // The normal is sampling's (a model box face's where the
+                // box cuts the solid open) or the field's gradient's at
+                // the hit.
+                if a.normal == o.normal {
+                    continue;
+                }
+                let [x, y, z] = a.position;
+                let g = grad.eval(x, y, z, &Inputs::default()).gradient();
+                let len = (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]).sqrt();
+                for k in 0..3 {
+                    let d = (a.normal[k] + g[k] / len).abs();
+                    assert!(d <= 1e-9, "{name}: normal {:?}, gradient {g:?}", a.normal);
+                }
+            }
+            assert!(differ <= 2, "{name} yaw {yaw}: {differ} pixels differ");
+            assert!(on_st.exact_rays >= hits as u64, "{name}: {on_st:?}");
+            if name == "coloured" {
+                assert!(on.hits.iter().flatten().all(|h| h.color.is_some()));
+            } else {
+                // Sampling evaluates points along every ray and a gradient
+                // per hit; the quadric's rays need neither.
+                assert!(off_st.point_evals > 2 * hits as u64, "{off_st:?}");
+                assert!(
+                    on_st.point_evals * 20 < hits as u64 && on_st.grad_evals * 20 < hits as u64,
                     "{name} yaw {yaw}: {on_st:?}, {hits} hits"
                 );
             }
