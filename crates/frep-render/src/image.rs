@@ -518,6 +518,7 @@ impl Shader {
         let mut any = false;
         // Positions only matter to perspective views.
         let persp = self.ortho.is_none();
+        let mut last = ([f32::NAN; 3], [0.0f32; 3]);
         for (j, h) in hits.iter().enumerate() {
             let Some(h) = h else { continue };
             any = true;
@@ -529,7 +530,16 @@ impl Shader {
                     p[j] = v;
                 }
             }
-            let a = h.color.map_or(self.base, |c| c.map(srgb_to_linear));
+            // Neighbouring hits mostly share a colour: its linear values
+            // once per run of it (powf is a tenth of a hit's shading).
+            let a = match h.color {
+                None => self.base,
+                Some(c) if c == last.0 => last.1,
+                Some(c) => {
+                    last = (c, c.map(srgb_to_linear));
+                    last.1
+                }
+            };
             for k in 0..3 {
                 albedo[k][j] = a[k];
             }
