@@ -426,7 +426,8 @@ struct Evals {
     plane: Option<Option<[f64; 4]>>,
     /// For a field of degree 2 or a root gap (`exact`, not `affine`), the
     /// quadric with its sign ([`Quadric`]), once computed: `None` until
-    /// then, `Some(None)` where it could not be (values not finite).
+    /// then, `Some(None)` where it could not be (values not finite, or not
+    /// those of a quadric: [`TileCtx::quadric`]).
     quadric: Option<Option<Quadric>>,
 }
 
@@ -1748,7 +1749,7 @@ impl<'a> TileCtx<'a> {
             self.sc.direct.push((i, lo, lo <= self.sc.rays[i].z0));
             return true;
         }
-        if !(p.scale.is_finite() && p.a.is_finite() && p.b.is_finite()) {
+        if ![p.a, p.b, p.c, p.scale].iter().all(|v| v.is_finite()) {
             return false;
         }
         self.sc.polys[i] = p;

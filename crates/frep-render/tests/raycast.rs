@@ -885,8 +885,8 @@ fn planes_take_no_samples() {
 /// comes from the quadric's coefficients and a crossing that checks out is
 /// the hit with the quadric's normal: no point evaluations and no gradient
 /// per hit. The hits are sampling's (the same pixels, depths within 1/16 of
-/// a footprint, normals within 1e-3); a model with attribute colours gets
-/// its colours on every hit.
+/// a footprint) and their normals the field's gradient's there (within
+/// 1e-9); a model with attribute colours gets its colours on every hit.
 #[test]
 fn quadrics_take_no_samples() {
     let models = [
