@@ -725,20 +725,42 @@ fn empty_tiles_are_skipped_whole() {
     }
 }
 
+/// The hits and counters of a view cast with the closed form on and off.
+type OnOff = [(HitBuffer, CastStats); 2];
+
 /// `model` cast at `w`×`h` in 16² tiles with the closed form on and off
 /// ([`ModelCaster::exact`]), with each cast's counters.
-fn cast_exact_on_off(
-    model: &Model,
-    b: Aabb,
-    cam: &Camera,
-    w: u32,
-    h: u32,
-) -> [(HitBuffer, CastStats); 2] {
+fn cast_exact_on_off(model: &Model, b: Aabb, cam: &Camera, w: u32, h: u32) -> OnOff {
     [true, false].map(|exact| {
         let mut c = ModelCaster::new(model, Inputs::default(), b);
         c.exact = exact;
         (cast_tiled(&c, cam, w, h, 16), c.stats())
     })
+}
+
+/// The image side of [`two_views_on_off`].
+const SMALL: u32 = 64;
+
+/// For the plane and quadric tests: `model` over the box
+/// `[-1, 1]² × [-1.2, 1.2]` in a top view along an axis and a perspective
+/// view, [`SMALL`]² pixels, each view's yaw, camera and the casts of
+/// [`cast_exact_on_off`].
+fn two_views_on_off(model: &Model) -> Vec<(f64, Camera, OnOff)> {
+    let b = Aabb::new([-1.0, -1.0, -1.2], [1.0, 1.0, 1.2]);
+    [(0.0, 90.0, None), (30.0, 50.0, Some(30.0))]
+        .into_iter()
+        .map(|(yaw, pitch, fov)| {
+            let cam = RenderSettings {
+                yaw,
+                pitch,
+                fov,
+                ..settings(b, SMALL, SMALL)
+            }
+            .camera();
+            let casts = cast_exact_on_off(model, b, &cam, SMALL, SMALL);
+            (yaw, cam, casts)
+        })
+        .collect()
 }
 
 /// Slabs settled in closed form where the shortened tape is a polynomial of
@@ -831,19 +853,9 @@ fn planes_take_no_samples() {
     let sloped = "my_model(x[3], a[1]) { my_model = (0.3 - 0.4 * x[1] - x[3]) & (x[3] + 1); }";
     let coloured = "my_model(x[3], a[1], s[3]) { s[1] = 0.2; s[2] = 0.5; s[3] = x[1]; \
                     my_model = (0.5 - x[3]) & (x[3] + 1); }";
-    let b = Aabb::new([-1.0, -1.0, -1.2], [1.0, 1.0, 1.2]);
-    let (w, h) = (64, 64);
     for (name, src) in [("slab", slab), ("sloped", sloped), ("coloured", coloured)] {
         let model = Model::compile(src).unwrap();
-        for (yaw, pitch, fov) in [(0.0, 90.0, None), (30.0, 50.0, Some(30.0))] {
-            let cam = RenderSettings {
-                yaw,
-                pitch,
-                fov,
-                ..settings(b, w, h)
-            }
-            .camera();
-            let [(on, on_st), (off, off_st)] = cast_exact_on_off(&model, b, &cam, w, h);
+        for (yaw, _, [(on, on_st), (off, off_st)]) in two_views_on_off(&model) {
             let hits = off.hit_count();
             assert!(hits > 1000, "{name} yaw {yaw}: {hits} hits");
             assert_eq!(on.hit_count(), hits, "{name} yaw {yaw}");
@@ -913,20 +925,10 @@ fn quadrics_take_no_samples() {
              my_model = 0.8 - x[1]^2 - x[2]^2 - x[3]^2; }",
         ),
     ];
-    let b = Aabb::new([-1.0, -1.0, -1.2], [1.0, 1.0, 1.2]);
-    let (w, h) = (64, 64);
     for (name, src) in models {
         let model = Model::compile(src).unwrap();
         let mut grad = GradEval::new(&model.tape());
-        for (yaw, pitch, fov) in [(0.0, 90.0, None), (30.0, 50.0, Some(30.0))] {
-            let cam = RenderSettings {
-                yaw,
-                pitch,
-                fov,
-                ..settings(b, w, h)
-            }
-            .camera();
-            let [(on, on_st), (off, off_st)] = cast_exact_on_off(&model, b, &cam, w, h);
+        for (yaw, cam, [(on, on_st), (off, off_st)]) in two_views_on_off(&model) {
             let hits = off.hit_count();
             assert!(hits > 300, "{name} yaw {yaw}: {hits} hits");
             let mut differ = 0;
@@ -935,7 +937,7 @@ fn quadrics_take_no_samples() {
                     differ += usize::from(a.is_some() != o.is_some());
                     continue;
                 };
-                let fp = cam.pixel_footprint(o.t, w, h);
+                let fp = cam.pixel_footprint(o.t, SMALL, SMALL);
                 assert!(
                     (a.t - o.t).abs() <= fp / 16.0,
                     "{name}: at {} and {}",
