@@ -119,11 +119,10 @@ use frep_core::eval::Inputs;
 use frep_core::hash::{FastHasher, FastMap};
 use frep_core::simplify::{simplify_with_stats, ChoiceMask, SimplifyMode};
 use frep_core::{Model, Tape};
-use rayon::prelude::*;
 
 use crate::camera::{dot, sub, Aabb, Camera, Projection, RayMaker};
 use crate::image::{Hit, HitBuffer, Image, Lighting, Shader};
-use crate::tiles::{cast_tiled, tile_rows, tiles, Tile, TileCaster};
+use crate::tiles::{cast_tiled, for_each_dynamic, tile_rows, tiles, Tile, TileCaster};
 
 /// An interval evaluation costs about this many point evaluations (in a
 /// batch) of the same tape.
@@ -228,8 +227,11 @@ pub struct ModelCaster {
     /// module docs). Default on; off for comparisons.
     pub exact: bool,
     stats: AtomicStats,
-    /// Per-thread evaluators and buffers, reused from tile to tile.
-    pool: Mutex<Vec<Scratch>>,
+    /// Per-thread evaluators and buffers, reused from tile to tile, each
+    /// with the rayon thread that last used it: that thread takes it
+    /// again (its caches warm in that core's), another one only when none
+    /// of its own is free.
+    pool: Mutex<Vec<(Option<usize>, Scratch)>>,
 }
 
 impl ModelCaster {
@@ -360,7 +362,14 @@ impl ModelCaster {
         if self.cancelled() {
             return false;
         }
-        let scratch = self.pool.lock().ok().and_then(|mut p| p.pop());
+        let me = rayon::current_thread_index();
+        let scratch = self.pool.lock().ok().and_then(|mut p| {
+            let j = p
+                .iter()
+                .rposition(|(o, _)| *o == me)
+                .or(p.len().checked_sub(1))?;
+            Some(p.swap_remove(j).1)
+        });
         let mut scratch = scratch.unwrap_or_else(|| Scratch::new(&self.tape));
         scratch.trim();
         // The rays of this image size, for the check and the tile's rays.
@@ -380,7 +389,7 @@ impl ModelCaster {
         // The tile's own check.
         stats.interval_evals += 1;
         if let Ok(mut p) = self.pool.lock() {
-            p.push(scratch);
+            p.push((me, scratch));
         }
         let s = &self.stats;
         s.interval_evals
@@ -3077,7 +3086,9 @@ pub fn render_with(
     // buffer is kept per worker, from tile to tile, and cleared only after
     // a tile with a hit (the caster writes nothing where no ray hits).
     let rows = tile_rows(&mut img.rgba, w as usize, 4, &ts);
-    ts.into_par_iter().zip(rows).for_each_init(
+    let work: Vec<_> = ts.into_iter().zip(rows).collect();
+    for_each_dynamic(
+        work,
         || (None::<BatchEval>, Vec::<Option<Hit>>::new(), false),
         |(ao_eval, hits, dirty), (t, mut rows)| {
             let n = (t.w() * t.h()) as usize;

@@ -2,6 +2,8 @@
 //! tile is cast by a [`TileCaster`] (which may prune it with the tile's
 //! [`Frustum`] and interval arithmetic), and tiles run in parallel with rayon.
 
+use std::sync::{Mutex, PoisonError};
+
 use rayon::prelude::*;
 
 use crate::camera::{Camera, Frustum};
@@ -101,6 +103,40 @@ pub fn tile_rows<'a, T>(
     out
 }
 
+/// Runs `f` on every item of `work`, in parallel on rayon's threads, each
+/// worker taking the next item as it finishes one (in order) with its own
+/// state from `init`, kept from item to item.
+///
+/// A tile's cost varies by orders of magnitude (background, surface,
+/// silhouette), and a parallel iterator hands each thread fixed chunks of
+/// the tiles once their number is split down (a quarter of the image each
+/// on 2 threads); a thread that finishes early then idles. Taking one item
+/// at a time, the threads finish within one item of each other. A worker
+/// that does not start (its thread busy elsewhere) leaves its share to the
+/// others.
+pub fn for_each_dynamic<W, S>(
+    work: Vec<W>,
+    init: impl Fn() -> S + Sync,
+    f: impl Fn(&mut S, W) + Sync,
+) where
+    W: Send,
+{
+    let workers = rayon::current_num_threads().min(work.len());
+    let queue = Mutex::new(work.into_iter());
+    (0..workers).into_par_iter().with_max_len(1).for_each(|_| {
+        let mut state = init();
+        loop {
+            // The lock is held only to take an item (its guard dropped
+            // before `f` runs; a panic in `f` leaves the queue whole).
+            let next = queue.lock().unwrap_or_else(PoisonError::into_inner).next();
+            let Some(w) = next else {
+                break;
+            };
+            f(&mut state, w);
+        }
+    });
+}
+
 /// Something that finds ray hits for a tile of pixels: the ray caster.
 pub trait TileCaster: Sync {
     /// Casts the rays of `tile` (pixel centres, see [`Camera::ray`]) and writes
@@ -132,17 +168,15 @@ pub fn cast_tiled(
     // Each tile is cast into a buffer of the worker's and copied into its
     // rows of the image.
     let rows = tile_rows(&mut buf.hits, width as usize, 1, &tiles);
-    tiles
-        .into_par_iter()
-        .zip(rows)
-        .for_each_init(Vec::new, |out, (t, rows)| {
-            out.clear();
-            out.resize((t.w() * t.h()) as usize, None);
-            caster.cast_tile(camera, &t, out);
-            for (row, src) in rows.into_iter().zip(out.chunks_exact(t.w() as usize)) {
-                row.copy_from_slice(src);
-            }
-        });
+    let work: Vec<_> = tiles.into_iter().zip(rows).collect();
+    for_each_dynamic(work, Vec::new, |out, (t, rows)| {
+        out.clear();
+        out.resize((t.w() * t.h()) as usize, None);
+        caster.cast_tile(camera, &t, out);
+        for (row, src) in rows.into_iter().zip(out.chunks_exact(t.w() as usize)) {
+            row.copy_from_slice(src);
+        }
+    });
     buf
 }
 
@@ -151,6 +185,7 @@ mod tests {
     use super::*;
     use crate::camera::Aabb;
     use crate::synthetic::{sphere_hits, SphereCaster};
+    use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
     #[test]
     fn tiles_cover_the_image_once() {
@@ -186,6 +221,69 @@ mod tests {
             // Every pixel's first element was written once, through its tile.
             assert!(buf.chunks(2).all(|p| p[0].2 == 9 && p[1].2 == 1));
         }
+    }
+
+    #[test]
+    fn dynamic_work_is_done_once_each() {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(3)
+            .build()
+            .unwrap();
+        let done: Vec<AtomicUsize> = (0..100).map(|_| AtomicUsize::new(0)).collect();
+        let inits = AtomicUsize::new(0);
+        pool.install(|| {
+            for_each_dynamic(
+                (0..100).collect(),
+                || inits.fetch_add(1, Ordering::Relaxed),
+                |_, i: usize| {
+                    done[i].fetch_add(1, Ordering::Relaxed);
+                },
+            )
+        });
+        assert!(done.iter().all(|d| d.load(Ordering::Relaxed) == 1));
+        // One state per worker, not per item.
+        assert!((1..=3).contains(&inits.load(Ordering::Relaxed)));
+        for_each_dynamic(Vec::<usize>::new(), || (), |_, _| unreachable!());
+    }
+
+    /// While one worker is held up on an item, the others take every other
+    /// item (a parallel iterator would leave the held item's chunk-mates
+    /// waiting behind it: a quarter of them on 2 threads).
+    #[test]
+    fn dynamic_work_goes_round_a_slow_item() {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(2)
+            .build()
+            .unwrap();
+        let n = 64;
+        let others = AtomicUsize::new(0);
+        let waited = AtomicBool::new(false);
+        pool.install(|| {
+            for_each_dynamic(
+                (0..n).collect(),
+                || (),
+                |_, i: usize| {
+                    if i == 0 {
+                        // Held until the rest are done (or, if they never
+                        // are meanwhile, 20 s: the test then fails).
+                        let t = std::time::Instant::now();
+                        while others.load(Ordering::SeqCst) < n - 1 {
+                            if t.elapsed().as_secs() >= 20 {
+                                return;
+                            }
+                            std::thread::yield_now();
+                        }
+                        waited.store(true, Ordering::SeqCst);
+                    } else {
+                        others.fetch_add(1, Ordering::SeqCst);
+                    }
+                },
+            )
+        });
+        assert!(
+            waited.load(Ordering::SeqCst),
+            "the other worker took the rest"
+        );
     }
 
     #[test]
