@@ -1354,27 +1354,19 @@ struct Instr {
 /// buffer cannot forward).
 #[derive(Clone, Debug, Default)]
 struct Regs {
-    lo: Vec<f64>,
-    hi: Vec<f64>,
-    nan: Vec<bool>,
+    /// One interval per node (one bounds check per access).
+    r: Vec<Interval>,
 }
 
 impl Regs {
     #[inline(always)]
     fn get(&self, i: u32) -> Interval {
-        let i = i as usize;
-        Interval {
-            lo: self.lo[i],
-            hi: self.hi[i],
-            nan: self.nan[i],
-        }
+        self.r[i as usize]
     }
 
     #[inline(always)]
     fn set(&mut self, i: usize, r: Interval) {
-        self.lo[i] = r.lo;
-        self.hi[i] = r.hi;
-        self.nan[i] = r.nan;
+        self.r[i] = r;
     }
 }
 
@@ -1432,9 +1424,7 @@ impl IntervalEval {
     pub fn new(tape: &Tape) -> Self {
         let n = tape.len();
         let mut regs = Regs {
-            lo: vec![Interval::EMPTY.lo; n],
-            hi: vec![Interval::EMPTY.hi; n],
-            nan: vec![false; n],
+            r: vec![Interval::EMPTY; n],
         };
         let mut code = Vec::new();
         let mut leaves = Vec::new();
