@@ -1,6 +1,7 @@
 //! The compiler's semantics: the reference interpreter's behaviours listed in
 //! SPEC §7, control flow, arrays, bodies, limits and diagnostics.
 
+use frep_core::eval::batch::BatchEval;
 use frep_core::{CompileOptions, EvalError, Inputs, Model, Node, PointEval};
 
 fn model(src: &str) -> Model {
@@ -222,6 +223,35 @@ fn attributes_are_outputs() {
     assert_eq!(ev.output(1), Ok(0.25));
     assert_eq!(ev.output(2), Ok(0.0), "s starts at 0");
     assert_eq!(ev.output(3), Ok(2.0));
+}
+
+#[test]
+fn attribute_tape_is_the_attributes_alone() {
+    let src = "my_model(x[3], a[1], s[3]) {
+        r = sqrt(x[1]^2 + x[2]^2 + x[3]^2);
+        s[1] = 0.5; s[2] = x[2] * 2;
+        if x[1] > 0 then s[3] = 1; endif;
+        my_model = sin(r) * cos(r) - 0.5 * r;
+    }";
+    let m = model(src);
+    let (full, attr) = (m.tape_with_attributes(), m.attribute_tape().unwrap());
+    assert_eq!(attr.outputs.len(), 3);
+    assert!(attr.len() < full.len(), "{} of {}", attr.len(), full.len());
+    let (xs, ys, zs) = (
+        vec![-0.5, 0.25, 1.0],
+        vec![0.1, -0.3, 2.0],
+        vec![0.0, 0.7, -1.0],
+    );
+    let (mut a, mut f) = (vec![Vec::new(); 3], vec![Vec::new(); 4]);
+    let inputs = Inputs::default();
+    BatchEval::new(&full).eval_outputs(&xs, &ys, &zs, &inputs, &mut f);
+    BatchEval::new(&attr).eval_outputs(&xs, &ys, &zs, &inputs, &mut a);
+    assert_eq!(a[..], f[1..]);
+    assert_eq!(a[2], [0.0, 1.0, 1.0]);
+    // No attributes: none.
+    assert!(model("my_model(x[3], a[1]) { my_model = 1; }")
+        .attribute_tape()
+        .is_none());
 }
 
 #[test]

@@ -239,8 +239,9 @@ impl ModelCaster {
     pub fn new(model: &Model, inputs: Inputs, bounds: Aabb) -> ModelCaster {
         ModelCaster {
             tape: model.tape(),
-            attr_tape: (model.has_attributes && model.s_dim >= 3)
-                .then(|| model.tape_with_attributes()),
+            attr_tape: model
+                .attribute_tape()
+                .filter(|t| model.s_dim >= 3 && t.outputs.len() >= 3),
             inputs,
             bounds,
             cancel: None,
@@ -537,6 +538,9 @@ struct Scratch {
     /// [`TileCtx::shorten`]).
     choices: Vec<Choice>,
     attr: Option<BatchEval>,
+    /// The attribute tape's interval evaluator, for colours constant over
+    /// a tile's hits ([`TileCtx::colors`]).
+    attr_iv: Option<IntervalEval>,
     rays: Vec<RayInfo>,
     /// Per ray, its depth range `[z0s, z1s]` while it is live and
     /// unresolved, else `[+∞, −∞]`.
@@ -589,9 +593,10 @@ struct Scratch {
     /// Rays whose first sample is inside: (ray, depth, at the model box
     /// entry).
     direct: Vec<(usize, f64, bool)>,
-    /// Thin-feature searches: (ray, lo depth, hi depth, f at lo, finest
-    /// cell length).
-    searches: Vec<(usize, f64, f64, f64, f64)>,
+    searches: Vec<Search>,
+    /// Which of `searches` [`TileCtx::check_searches`] keeps; empty
+    /// between uses.
+    search_keep: Vec<bool>,
     /// Tails to search (see [`TileCtx::search_tails`]).
     tail_list: Vec<(usize, Tail)>,
     hit_rays: Vec<usize>,
@@ -607,7 +612,7 @@ struct Scratch {
     /// (empty) for their capacity: no allocation per search.
     spare_brackets: Vec<Bracket>,
     spare_direct: Vec<(usize, f64, bool)>,
-    spare_searches: Vec<(usize, f64, f64, f64, f64)>,
+    spare_searches: Vec<Search>,
     spare_need: Vec<usize>,
     /// Pending tails a leaf searches before its own samples (see
     /// [`TileCtx::leaf`]); empty between uses.
@@ -616,6 +621,10 @@ struct Scratch {
     refine_active: Vec<usize>,
     refine_trials: Vec<(f64, f64, usize)>,
 }
+
+/// A thin-feature search: (ray, lo depth, hi depth, f at lo, finest cell
+/// length).
+type Search = (usize, f64, f64, f64, f64);
 
 /// The crossings and direct hits of one evaluator waiting for the end of
 /// the tile ([`TileCtx::finish`], [`TileCtx::flush_deferred`]).
@@ -659,6 +668,7 @@ impl Scratch {
             bytes: tape.len() * NODE_BYTES,
             choices: Vec::new(),
             attr: None,
+            attr_iv: None,
             rays: Vec::new(),
             z0s: Vec::new(),
             z1s: Vec::new(),
@@ -696,6 +706,7 @@ impl Scratch {
             spare_searches: Vec::new(),
             spare_need: Vec::new(),
             resolve_first: Vec::new(),
+            search_keep: Vec::new(),
             refine_active: Vec::new(),
             refine_trials: Vec::new(),
         }
@@ -2248,13 +2259,17 @@ impl<'a> TileCtx<'a> {
         if self.sc.searches.is_empty() {
             return;
         }
-        // One interval evaluation over each segment first: most local
-        // maxima of smooth fields are far from the surface.
-        let mut searches = std::mem::take(&mut self.sc.searches);
-        searches.retain(|&(i, a, b, _, _)| {
-            let seg = self.sc.rays[i].segment_box(a, b);
-            !self.eval_box(e, &seg).is_outside()
-        });
+        // Interval evaluations over the segments first: most local maxima
+        // of smooth fields are far from the surface.
+        let searches = std::mem::take(&mut self.sc.searches);
+        let mut keep = std::mem::take(&mut self.sc.search_keep);
+        keep.clear();
+        keep.resize(searches.len(), false);
+        self.check_searches(e, &searches, &mut keep);
+        let mut searches = searches;
+        let mut kept = keep.iter();
+        searches.retain(|_| kept.next().copied().unwrap_or(true));
+        self.sc.search_keep = keep;
         self.sc.searches = searches;
         let sc = &mut *self.sc;
         if sc.searches.is_empty() {
@@ -2298,6 +2313,38 @@ impl<'a> TileCtx<'a> {
             }
         }
         sc.searches.clear();
+    }
+
+    /// Sets `keep[j]` for each search `list[j]` (ray, from, to, …) whose
+    /// segment's box is not outside on evaluator `e`: one interval
+    /// evaluation over the hull of the segments' boxes, and only where that
+    /// is not outside, the same for each half of the list, down to single
+    /// segments (those evaluated as before). Neighbouring rays' searches
+    /// are mostly outside together: on android_robot's turntable a third
+    /// fewer evaluations, on M3's half.
+    fn check_searches(&mut self, e: usize, list: &[Search], keep: &mut [bool]) {
+        let Some((&(i, a, b, _, _), rest)) = list.split_first() else {
+            return;
+        };
+        let mut hull = self.sc.rays[i].segment_box(a, b);
+        for &(i, a, b, _, _) in rest {
+            let s = self.sc.rays[i].segment_box(a, b);
+            for k in 0..3 {
+                hull.min[k] = hull.min[k].min(s.min[k]);
+                hull.max[k] = hull.max[k].max(s.max[k]);
+            }
+        }
+        if self.eval_box(e, &hull).is_outside() {
+            return;
+        }
+        if rest.is_empty() {
+            keep[0] = true;
+            return;
+        }
+        let mid = list.len() / 2;
+        let (k0, k1) = keep.split_at_mut(mid);
+        self.check_searches(e, &list[..mid], k0);
+        self.check_searches(e, &list[mid..], k1);
     }
 
     /// Searches the segments of the buffered `tail_list` (rays and their
@@ -2838,6 +2885,40 @@ impl<'a> TileCtx<'a> {
             return;
         }
         let sc = &mut *self.sc;
+        // Where the attributes are constant over the box of the hits (an
+        // interval evaluation gives each a single value), that is every
+        // hit's colour, without evaluating them point by point.
+        let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+        for &i in hit_rays {
+            if let Some(h) = &self.out[i] {
+                for k in 0..3 {
+                    lo[k] = lo[k].min(h.position[k]);
+                    hi[k] = hi[k].max(h.position[k]);
+                }
+            }
+        }
+        if lo[0] <= hi[0] && lo[1] <= hi[1] && lo[2] <= hi[2] {
+            let ev = sc
+                .attr_iv
+                .get_or_insert_with(|| IntervalEval::new(attr_tape));
+            let out = ev.eval_outputs(
+                iv(lo[0], hi[0]),
+                iv(lo[1], hi[1]),
+                iv(lo[2], hi[2]),
+                &self.caster.inputs,
+            );
+            self.stats.interval_evals += 1;
+            let single = |r: &Interval| !r.nan && r.lo == r.hi && r.lo.is_finite();
+            if out.len() >= 3 && out[..3].iter().all(single) {
+                let c = [0, 1, 2].map(|k| out[k].lo.clamp(0.0, 1.0) as f32);
+                for &i in hit_rays {
+                    if let Some(h) = &mut self.out[i] {
+                        h.color = Some(c);
+                    }
+                }
+                return;
+            }
+        }
         sc.clear_points();
         for &i in hit_rays {
             let p = self.out[i].as_ref().map_or([0.0; 3], |h| h.position);
@@ -2854,11 +2935,11 @@ impl<'a> TileCtx<'a> {
             &self.caster.inputs,
             &mut outs,
         );
-        if outs.len() < 4 {
+        if outs.len() < 3 {
             return;
         }
         for (j, &i) in hit_rays.iter().enumerate() {
-            let c = [outs[1][j], outs[2][j], outs[3][j]];
+            let c = [outs[0][j], outs[1][j], outs[2][j]];
             if let Some(h) = &mut self.out[i] {
                 if c.iter().all(|v| v.is_finite()) {
                     h.color = Some(c.map(|v| v.clamp(0.0, 1.0) as f32));

@@ -14,7 +14,7 @@ use std::sync::Arc;
 use frep_core::eval::batch::BatchEval;
 use frep_core::eval::grad::GradEval;
 use frep_core::eval::Inputs;
-use frep_core::Model;
+use frep_core::{Model, PointEval};
 use frep_render::{
     ascii_mask, cast_tiled, render, render_hits, shade, Aabb, Camera, CastStats, HitBuffer,
     ModelCaster, RenderError, RenderSettings,
@@ -337,6 +337,19 @@ fn attribute_colours() {
         })
         .count();
     assert!(green * 10 > all.len() * 8, "{green} of {}", all.len());
+    // Every hit's colour is the attributes' value there (constant over most
+    // tiles' hits, taken once per tile by interval; the eyes' tiles point
+    // by point), and the eyes are white.
+    let mut pe = PointEval::new(model.point_tape());
+    let mut white = 0;
+    for h in &all {
+        let [x, y, z] = h.position;
+        pe.eval(x, y, z, &Default::default()).unwrap();
+        let want = [1, 2, 3].map(|k| pe.output(k).unwrap().clamp(0.0, 1.0) as f32);
+        assert_eq!(h.color, Some(want), "at {:?}", h.position);
+        white += (want == [1.0; 3]) as usize;
+    }
+    assert!(white > 3, "{white} white hits");
     let img = render(&model, &s, None).unwrap();
     let (mut g, mut n) = (0, 0);
     for (i, h) in hits.hits.iter().enumerate() {

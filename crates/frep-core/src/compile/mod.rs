@@ -116,6 +116,15 @@ impl Model {
         self.graph.tape(&outs)
     }
 
+    /// The tape of the attributes `s[1..]` alone, without the value (the
+    /// nodes only the value needs left out); `None` when the body does not
+    /// declare `s`. Its outputs are [`Model::tape_with_attributes`]'s after
+    /// the first, the same values.
+    pub fn attribute_tape(&self) -> Option<Tape> {
+        (self.has_attributes && !self.attributes.is_empty())
+            .then(|| self.graph.tape(&self.attributes))
+    }
+
     /// The tape the point evaluator runs: the guarded value, then the
     /// attributes (when declared).
     pub fn point_tape(&self) -> Tape {
