@@ -104,16 +104,18 @@ pub fn tile_rows<'a, T>(
 }
 
 /// Runs `f` on every item of `work`, in parallel on rayon's threads, each
-/// worker taking the next item as it finishes one (in order) with its own
-/// state from `init`, kept from item to item.
+/// worker with its own state from `init`, kept from item to item.
 ///
 /// A tile's cost varies by orders of magnitude (background, surface,
 /// silhouette), and a parallel iterator hands each thread fixed chunks of
 /// the tiles once their number is split down (a quarter of the image each
-/// on 2 threads); a thread that finishes early then idles. Taking one item
-/// at a time, the threads finish within one item of each other. A worker
-/// that does not start (its thread busy elsewhere) leaves its share to the
-/// others.
+/// on 2 threads); a thread that finishes early then idles. Here each worker
+/// owns a contiguous share of the items and takes them one at a time from
+/// its front (neighbouring tiles on one thread: its caches of shortened
+/// tapes serve them); one whose share is done takes the last item of the
+/// largest share left. The workers finish within one item of each other,
+/// and a worker that does not start (its thread busy elsewhere) leaves its
+/// share to the others.
 pub fn for_each_dynamic<W, S>(
     work: Vec<W>,
     init: impl Fn() -> S + Sync,
@@ -121,18 +123,39 @@ pub fn for_each_dynamic<W, S>(
 ) where
     W: Send,
 {
-    let workers = rayon::current_num_threads().min(work.len());
-    let queue = Mutex::new(work.into_iter());
-    (0..workers).into_par_iter().with_max_len(1).for_each(|_| {
+    let n = work.len();
+    let workers = rayon::current_num_threads().clamp(1, n.max(1));
+    // Per worker, the range of items not yet taken from its share.
+    let shares: Vec<(usize, usize)> = (0..workers)
+        .map(|w| (w * n / workers, (w + 1) * n / workers))
+        .collect();
+    let items: Vec<Option<W>> = work.into_iter().map(Some).collect();
+    let queue = Mutex::new((items, shares));
+    (0..workers).into_par_iter().with_max_len(1).for_each(|w| {
         let mut state = init();
         loop {
             // The lock is held only to take an item (its guard dropped
-            // before `f` runs; a panic in `f` leaves the queue whole).
-            let next = queue.lock().unwrap_or_else(PoisonError::into_inner).next();
-            let Some(w) = next else {
+            // before `f` runs; a panic in `f` leaves the others' items).
+            let next = {
+                let mut q = queue.lock().unwrap_or_else(PoisonError::into_inner);
+                let (items, shares) = &mut *q;
+                let (a, b) = shares[w];
+                let j = if a < b {
+                    shares[w].0 += 1;
+                    Some(a)
+                } else {
+                    let most = (0..workers).max_by_key(|&v| shares[v].1 - shares[v].0);
+                    most.filter(|&v| shares[v].1 > shares[v].0).map(|v| {
+                        shares[v].1 -= 1;
+                        shares[v].1
+                    })
+                };
+                j.and_then(|j| items[j].take())
+            };
+            let Some(item) = next else {
                 break;
             };
-            f(&mut state, w);
+            f(&mut state, item);
         }
     });
 }
