@@ -72,7 +72,9 @@
 //! 3. **Thin features.** A ray whose samples show no crossing although the
 //!    leaf is ambiguous can only hide a feature thinner than a step around a
 //!    local maximum of its samples; that segment is checked with one
-//!    interval evaluation and, if it may hold the surface, sampled at the
+//!    interval evaluation (a leaf's segments over their hull first, then
+//!    over each half of a hull not outside: `TileCtx::check_searches`)
+//!    and, if it may hold the surface, sampled at the
 //!    midpoints of cells of 1/2^[`ModelCaster::fallback_depth`] of a step or
 //!    footprint, whichever is smaller (the cells an interval bisection would
 //!    end with), batched. A maximum at the *end* of a slab is not searched at
@@ -100,10 +102,16 @@
 //!    at ½, 2 and 8 pixel footprints, and failing those the direction back
 //!    to the eye. Where the solid is cut by the
 //!    model box the normal is the box face's. Attribute colours come from
-//!    `s[1..3]` when the model declares `s[]`.
+//!    `s[1..3]` when the model declares `s[]`, evaluated on the attributes'
+//!    own tape ([`Model::attribute_tape`]), once for all of a group's hits
+//!    where an interval evaluation over their box gives each a single value.
 //!
-//! Evaluators are never built per pixel: each worker thread keeps (from
-//! tile to tile, in a pool of the caster) the root tape's evaluators and
+//! Tiles are cast by one worker per thread ([`for_each_dynamic`]), each
+//! taking the tiles of its own contiguous share one at a time and then the
+//! last tile of the largest share left. Evaluators are never built per
+//! pixel: each worker thread keeps (from
+//! tile to tile, in a pool of the caster, which hands a thread back its
+//! own) the root tape's evaluators and
 //! those of every shortened tape met so far, keyed by the interval choices
 //! that produced them (a tape is simplified and compiled once, and boxes that
 //! shorten to the same tape share it), bounded to a few MiB. Rays, frustum
