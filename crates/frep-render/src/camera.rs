@@ -50,6 +50,14 @@ impl Aabb {
     pub fn size(&self) -> [f64; 3] {
         sub(self.max, self.min)
     }
+
+    /// The smallest box holding both boxes.
+    pub fn union(&self, o: &Aabb) -> Aabb {
+        Aabb {
+            min: std::array::from_fn(|k| self.min[k].min(o.min[k])),
+            max: std::array::from_fn(|k| self.max[k].max(o.max[k])),
+        }
+    }
 }
 
 /// A ray: `origin + t * dir`, with `dir` of unit length (so `t` is a distance).

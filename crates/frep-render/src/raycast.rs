@@ -2334,14 +2334,12 @@ impl<'a> TileCtx<'a> {
         let Some((&(i, a, b, _, _), rest)) = list.split_first() else {
             return;
         };
-        let mut hull = self.sc.rays[i].segment_box(a, b);
-        for &(i, a, b, _, _) in rest {
-            let s = self.sc.rays[i].segment_box(a, b);
-            for k in 0..3 {
-                hull.min[k] = hull.min[k].min(s.min[k]);
-                hull.max[k] = hull.max[k].max(s.max[k]);
-            }
-        }
+        let rays = &self.sc.rays;
+        let hull = rest
+            .iter()
+            .fold(rays[i].segment_box(a, b), |h, &(i, a, b, _, _)| {
+                h.union(&rays[i].segment_box(a, b))
+            });
         if self.eval_box(e, &hull).is_outside() {
             return;
         }
@@ -2896,23 +2894,20 @@ impl<'a> TileCtx<'a> {
         // Where the attributes are constant over the box of the hits (an
         // interval evaluation gives each a single value), that is every
         // hit's colour, without evaluating them point by point.
-        let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-        for &i in hit_rays {
-            if let Some(h) = &self.out[i] {
-                for k in 0..3 {
-                    lo[k] = lo[k].min(h.position[k]);
-                    hi[k] = hi[k].max(h.position[k]);
-                }
-            }
-        }
-        if lo[0] <= hi[0] && lo[1] <= hi[1] && lo[2] <= hi[2] {
+        let hull = hit_rays
+            .iter()
+            .filter_map(|&i| self.out[i].as_ref())
+            .map(|h| Aabb::new(h.position, h.position))
+            .reduce(|a, b| a.union(&b))
+            .filter(|b| (0..3).all(|k| b.min[k] <= b.max[k]));
+        if let Some(b) = hull {
             let ev = sc
                 .attr_iv
                 .get_or_insert_with(|| IntervalEval::new(attr_tape));
             let out = ev.eval_outputs(
-                iv(lo[0], hi[0]),
-                iv(lo[1], hi[1]),
-                iv(lo[2], hi[2]),
+                iv(b.min[0], b.max[0]),
+                iv(b.min[1], b.max[1]),
+                iv(b.min[2], b.max[2]),
                 &self.caster.inputs,
             );
             self.stats.interval_evals += 1;
