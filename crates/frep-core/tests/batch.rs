@@ -3,7 +3,7 @@
 
 mod common;
 
-use frep_core::eval::batch::{binary_lane, unary_lane, BatchEval, GradRegs, LANES};
+use frep_core::eval::batch::{binary_lane, unary_lane, BatchEval, GradRegs, Trig, LANES};
 use frep_core::eval::grad::{Grad, GradEval};
 use frep_core::eval::Inputs;
 use frep_core::ops::{self, BinaryOp, BlendOp, EvalError, UnaryOp};
@@ -426,8 +426,17 @@ proptest! {
 /// the last run shorter when `short`) against [`BatchEval::eval`] at the
 /// same points: the same bits, twice (the second call reuses the split
 /// program), on the same evaluator as plain calls before and after; then
-/// as a grid likewise, every run with the first run's axis values.
-fn check_lines(tape: &Tape, seed: u64, axis: usize, runs: usize, len: usize, short: bool) {
+/// as a grid likewise, every run with the first run's axis values. `sin`
+/// and `cos` as `trig` says.
+fn check_lines(
+    tape: &Tape,
+    trig: Trig,
+    seed: u64,
+    axis: usize,
+    runs: usize,
+    len: usize,
+    short: bool,
+) {
     let mut rng = Rng(seed | 1);
     let inp = inputs(&mut rng);
     let n = (runs * len).saturating_sub(usize::from(short && len > 1));
@@ -440,6 +449,7 @@ fn check_lines(tape: &Tape, seed: u64, axis: usize, runs: usize, len: usize, sho
         c[k] = (0..n).map(|i| fixed[j][i / len]).collect();
     }
     let mut be = BatchEval::new(tape);
+    be.set_trig(trig);
     for grid in [false, true] {
         if grid {
             c[axis] = (0..n).map(|i| along[i % len]).collect();
@@ -469,7 +479,7 @@ proptest! {
     #[test]
     fn lines_equal_points(ops_ in prop::collection::vec(op_strategy(), 1..40), seed in any::<u64>(), axis in 0usize..3, runs in prop::sample::select(vec![1usize, 3, 40, 200]), len in prop::sample::select(vec![1usize, 2, 7, 129]), short in any::<bool>()) {
         let tape = build(&ops_, true);
-        check_lines(&tape, seed, axis, runs, len, short);
+        check_lines(&tape, Trig::Exact, seed, axis, runs, len, short);
     }
 }
 
@@ -500,10 +510,12 @@ fn lines_of_a_gyroid() {
     let f = g.binary(BinaryOp::Min, ng, ball);
     let f = g.binary(BinaryOp::Add, f, xz);
     let tape = g.tape(&[f]);
-    for axis in 0..3 {
-        for (runs, len) in [(1, 1), (5, 9), (64, 2), (300, 7), (2, 200)] {
-            for short in [false, true] {
-                check_lines(&tape, 0x5eed + axis as u64, axis, runs, len, short);
+    for trig in [Trig::Exact, Trig::Fast] {
+        for axis in 0..3 {
+            for (runs, len) in [(1, 1), (5, 9), (64, 2), (300, 7), (2, 200)] {
+                for short in [false, true] {
+                    check_lines(&tape, trig, 0x5eed + axis as u64, axis, runs, len, short);
+                }
             }
         }
     }
@@ -511,7 +523,7 @@ fn lines_of_a_gyroid() {
     // one with nothing worth hoisting.
     for f in [sx, qx, eight, ball] {
         let tape = g.tape(&[f]);
-        check_lines(&tape, 7, 2, 10, 3, true);
+        check_lines(&tape, Trig::Fast, 7, 2, 10, 3, true);
     }
 }
 
@@ -1068,4 +1080,63 @@ proptest! {
         let (pts, inp) = random_points(seed, n);
         prop_assert!(check_grad(&tape, &pts, &inp, 0.1).is_ok(), "{}", check_grad(&tape, &pts, &inp, 0.1).unwrap_err());
     }
+}
+
+/// With [`Trig::Fast`] the gyroid's `sin`/`cos` pairs and a lone `sin` and
+/// `cos` give values within `1e-12` of [`Trig::Exact`]'s (and not all the
+/// same bits: the fast kernels are in use); the gradient evaluator's values
+/// are the fast values bit for bit and its derivatives within `1e-10`;
+/// set back to exact, the evaluator gives the exact bits again.
+#[test]
+fn fast_trig_stays_close() {
+    let src = "my_model(x[3], a[1]) { my_model = sin(8 * x[1]) * cos(8 * x[2]) \
+               + sin(8 * x[2]) * cos(8 * x[3]) + sin(8 * x[3]) * cos(8 * x[1]) \
+               + cos(40 * x[1] * x[2]) - sin(x[3]); }";
+    let tape = frep_core::Model::compile(src).unwrap().tape();
+    let mut rng = Rng(0xfa57_7419);
+    let n = 3000;
+    let c: [Vec<f64>; 3] = std::array::from_fn(|_| (0..n).map(|_| rng.sym(3.0)).collect());
+    let inp = Inputs::default();
+    let mut be = BatchEval::new(&tape);
+    assert_eq!(be.trig(), Trig::Exact, "exact by default");
+    let mut exact = vec![0.0; n];
+    be.eval(&c[0], &c[1], &c[2], &inp, &mut exact);
+    let mut regs = GradRegs::default();
+    let mut exact_g = vec![Grad::default(); n];
+    be.eval_grad(&c[0], &c[1], &c[2], &inp, &mut regs, &mut exact_g);
+    be.set_trig(Trig::Fast);
+    let mut fast = vec![0.0; n];
+    be.eval(&c[0], &c[1], &c[2], &inp, &mut fast);
+    let mut fast_g = vec![Grad::default(); n];
+    be.eval_grad(&c[0], &c[1], &c[2], &inp, &mut regs, &mut fast_g);
+    let mut differ = 0;
+    for i in 0..n {
+        let e = (fast[i] - exact[i]).abs();
+        assert!(
+            e <= 1e-12,
+            "point {i}: fast {:e}, exact {:e}",
+            fast[i],
+            exact[i]
+        );
+        differ += usize::from(fast[i].to_bits() != exact[i].to_bits());
+        assert!(same(fast_g[i].v, fast[i]), "point {i}: gradient's value");
+        for (a, b) in [
+            (fast_g[i].dx, exact_g[i].dx),
+            (fast_g[i].dy, exact_g[i].dy),
+            (fast_g[i].dz, exact_g[i].dz),
+        ] {
+            assert!(
+                (a - b).abs() <= 1e-10,
+                "point {i}: derivative {a:e} vs {b:e}"
+            );
+        }
+    }
+    assert!(
+        differ > n / 10,
+        "only {differ} of {n} values differ in any bit"
+    );
+    be.set_trig(Trig::Exact);
+    let mut again = vec![0.0; n];
+    be.eval(&c[0], &c[1], &c[2], &inp, &mut again);
+    assert!(again.iter().zip(&exact).all(|(a, b)| same(*a, *b)));
 }

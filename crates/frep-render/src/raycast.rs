@@ -26,7 +26,9 @@
 //!    where a ray of the leaf enters the model box behind that depth).
 //! 2. **Leaves.** Every unresolved ray of a leaf is sampled at steps of
 //!    [`ModelCaster::step_px`] pixel footprints across the slab, all rays of
-//!    the leaf in one batch ([`BatchEval`], vectorised across rays; in an
+//!    the leaf in one batch ([`BatchEval`], vectorised across rays, with
+//!    `sin` and `cos` to about `2e-14` of the value, not an ulp:
+//!    [`ModelCaster::trig`]; in an
 //!    orthographic view straight along an axis, as lines:
 //!    [`BatchEval::eval_lines`], the transcendental functions of the other
 //!    two coordinates once per ray and of the axis one once per depth). The
@@ -120,7 +122,7 @@
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 
-use frep_core::eval::batch::{BatchEval, GradRegs, LANES};
+use frep_core::eval::batch::{BatchEval, GradRegs, Trig, LANES};
 use frep_core::eval::grad::Grad;
 use frep_core::eval::interval::{Choice, Interval, IntervalEval};
 use frep_core::eval::Inputs;
@@ -234,6 +236,13 @@ pub struct ModelCaster {
     /// the value and gradient there, not sampled and searched (see the
     /// module docs). Default on; off for comparisons.
     pub exact: bool,
+    /// How the batch evaluators of samples, refinement and normals compute
+    /// `sin` and `cos`. Default [`Trig::Fast`] (within about `5e-14` of
+    /// the value, not an ulp: a sign test at a sample, a hit refined to a
+    /// fraction of a footprint and a normal for shading need no more; the
+    /// gyroid's frame costs about a tenth less time); [`Trig::Exact`] for
+    /// comparisons. Interval evaluations stay exact.
+    pub trig: Trig,
     stats: AtomicStats,
     /// Per-thread evaluators and buffers, reused from tile to tile, each
     /// with the rayon thread that last used it: that thread takes it
@@ -260,6 +269,7 @@ impl ModelCaster {
             prune_after: 3,
             lines: true,
             exact: true,
+            trig: Trig::Fast,
             stats: AtomicStats::default(),
             pool: Mutex::new(Vec::new()),
         }
@@ -280,6 +290,7 @@ impl ModelCaster {
             prune_after: 3,
             lines: true,
             exact: true,
+            trig: Trig::Fast,
             stats: AtomicStats::default(),
             pool: Mutex::new(Vec::new()),
         }
@@ -381,6 +392,7 @@ impl ModelCaster {
         });
         let mut scratch = scratch.unwrap_or_else(|| Scratch::new(&self.tape));
         scratch.trim();
+        scratch.trig = self.trig;
         // The rays of this image size, for the check and the tile's rays.
         let rm = camera.rays(tile.width, tile.height);
         let empty = self.tile_outside(camera, &rm, tile, &mut scratch);
@@ -628,6 +640,9 @@ struct Scratch {
     /// [`TileCtx::refine`]'s brackets still too wide, and their trial depths.
     refine_active: Vec<usize>,
     refine_trials: Vec<(f64, f64, usize)>,
+    /// The caster's [`ModelCaster::trig`], for the batch evaluators (set
+    /// at each use).
+    trig: Trig,
 }
 
 /// A thin-feature search: (ray, lo depth, hi depth, f at lo, finest cell
@@ -717,6 +732,7 @@ impl Scratch {
             search_keep: Vec::new(),
             refine_active: Vec::new(),
             refine_trials: Vec::new(),
+            trig: Trig::Exact,
         }
     }
 
@@ -745,7 +761,7 @@ impl Scratch {
         if self.vals.len() < n {
             self.vals.resize(n, 0.0);
         }
-        let b = counted_batch(&mut self.evals, &mut self.bytes, e);
+        let b = counted_batch(&mut self.evals, &mut self.bytes, e, self.trig);
         let (xs, ys, zs) = (&self.xs[..n], &self.ys[..n], &self.zs[..n]);
         let out = &mut self.vals[..n];
         match lines {
@@ -802,7 +818,7 @@ impl Scratch {
         if self.grads.len() < n {
             self.grads.resize(n, Grad::default());
         }
-        counted_batch(&mut self.evals, &mut self.bytes, e).eval_grad(
+        counted_batch(&mut self.evals, &mut self.bytes, e, self.trig).eval_grad(
             &self.xs[..n],
             &self.ys[..n],
             &self.zs[..n],
@@ -849,13 +865,20 @@ impl Scratch {
 }
 
 /// Evaluator `e`'s batch evaluator, its bytes added to `bytes` when it is
-/// built here.
-fn counted_batch<'e>(evals: &'e mut [Evals], bytes: &mut usize, e: usize) -> &'e mut BatchEval {
+/// built here, set to compute `sin` and `cos` as `trig` says.
+fn counted_batch<'e>(
+    evals: &'e mut [Evals],
+    bytes: &mut usize,
+    e: usize,
+    trig: Trig,
+) -> &'e mut BatchEval {
     let ev = &mut evals[e];
     if ev.batch.is_none() {
         *bytes += batch_bytes(ev.batch());
     }
-    ev.batch()
+    let b = ev.batch();
+    b.set_trig(trig);
+    b
 }
 
 /// The bytes of a batch evaluator's registers and instructions, roughly.

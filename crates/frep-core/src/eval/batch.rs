@@ -35,7 +35,9 @@
 //! `|b| < 1e-6` and `n <= 0`). Arithmetic, comparisons, `min`/`max`,
 //! R-functions, blends, selects, rounding and integer powers are bit-exact;
 //! `exp`, `log`, `logd`, `sin`, `cos`, `tan` and `atan` use the vectorised
-//! kernels (≤ 2 ulp from `std`); the other functions call `std` per lane.
+//! kernels (≤ 2 ulp from `std`; `sin` and `cos` within about `2e-14` of the
+//! value instead with [`Trig::Fast`]); the other functions call `std` per
+//! lane.
 //!
 //! A select picks its branch by [`ops::truthy`] of the condition, lane by
 //! lane: `|c| >= 1e-6`. A NaN condition is false (`|NaN| >= 1e-6` is false),
@@ -53,6 +55,21 @@ use crate::ops::{self, BinaryOp, BlendOp, UnaryOp, EPS};
 
 /// Number of points per block.
 pub const LANES: usize = 128;
+
+/// How a [`BatchEval`] computes `sin` and `cos` of varying values.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Trig {
+    /// Within an ulp of `std` ([`simd_math::sin`](super::simd_math::sin)):
+    /// the point evaluator's values.
+    #[default]
+    Exact,
+    /// Within about `2e-14` of the value
+    /// ([`simd_math::sin_cos_fast`](super::simd_math::sin_cos_fast)), about
+    /// a third cheaper: for callers that need the field's sign and rough
+    /// size, not its last bits (a ray caster's samples). Uniform values
+    /// stay exact.
+    Fast,
+}
 
 type Block = [f64; LANES];
 
@@ -176,6 +193,8 @@ struct Program {
     /// Whether x, y, z (registers 0, 1, 2) are read.
     xyz: [bool; 3],
     regs: Vec<Block>,
+    /// How `sin` and `cos` are computed (the evaluator's, set on each use).
+    trig: Trig,
     /// The program split for lines along each axis (`axis`) and for grids
     /// along each axis (`3 + axis`), once asked for (see
     /// [`BatchEval::eval_lines`]; `Some(None)`: nothing worth splitting).
@@ -207,6 +226,7 @@ pub struct BatchEval {
     /// The saved values of [`BatchEval::eval_lines`], kept for their
     /// capacity.
     line_slots: Vec<f64>,
+    trig: Trig,
 }
 
 impl BatchEval {
@@ -251,7 +271,19 @@ impl BatchEval {
             first: None,
             all: None,
             line_slots: Vec::new(),
+            trig: Trig::Exact,
         }
+    }
+
+    /// Sets how `sin` and `cos` are computed from now on ([`Trig`]; the
+    /// default is [`Trig::Exact`]).
+    pub fn set_trig(&mut self, trig: Trig) {
+        self.trig = trig;
+    }
+
+    /// How `sin` and `cos` are computed.
+    pub fn trig(&self) -> Trig {
+        self.trig
     }
 
     /// The tape this evaluator runs.
@@ -276,7 +308,9 @@ impl BatchEval {
             };
             *slot = Some(compile(&self.tape, &self.alias, &self.loc, &outs));
         }
-        slot.as_mut().expect("compiled above")
+        let prog = slot.as_mut().expect("compiled above");
+        prog.trig = self.trig;
+        prog
     }
 
     fn update_uniforms(&mut self, inputs: &Inputs) {
@@ -536,6 +570,7 @@ fn compile(tape: &Tape, alias: &[u32], loc: &[Loc], outputs: &[NodeId]) -> Progr
         outputs,
         xyz,
         regs: vec![[0.0; LANES]; n_regs as usize],
+        trig: Trig::Exact,
         lines: [None, None, None, None, None, None],
     }
 }
@@ -643,7 +678,7 @@ fn run(
         let m = LANES.min(n - start);
         load_block(prog, [xs, ys, zs], start, m);
         for ins in &prog.instrs {
-            exec(ins, &mut prog.regs, uni, m);
+            exec(ins, &mut prog.regs, uni, m, prog.trig);
         }
         store_block(prog, uni, outs, start, m);
         start += m;
@@ -719,10 +754,12 @@ fn binary_kernel(op: BinaryOp, d: &mut [f64], a: impl Operand, b: impl Operand) 
     );
 }
 
-fn unary_kernel(op: UnaryOp, d: &mut [f64], a: &[f64]) {
+fn unary_kernel(op: UnaryOp, d: &mut [f64], a: &[f64], trig: Trig) {
     macro_rules! each {
         ($($v:ident),*) => {
             match op {
+                UnaryOp::Sin if trig == Trig::Fast => sm::sin_fast_slice(a, d),
+                UnaryOp::Cos if trig == Trig::Fast => sm::cos_fast_slice(a, d),
                 UnaryOp::Sin => sm::sin_slice(a, d),
                 UnaryOp::Cos => sm::cos_slice(a, d),
                 UnaryOp::Tan => sm::tan_checked_slice(a, d),
@@ -797,11 +834,11 @@ fn pow_int_kernel(d: &mut [f64], a: &[f64], n: i32) {
 }
 
 #[inline(always)]
-fn exec(ins: &Instr, regs: &mut [Block], uni: &[f64], m: usize) {
+fn exec(ins: &Instr, regs: &mut [Block], uni: &[f64], m: usize, trig: Trig) {
     match *ins {
         Instr::Unary(op, dst, a) => {
             let (d, [a]) = split(regs, dst, [a]);
-            unary_kernel(op, &mut d[..m], &a[..m]);
+            unary_kernel(op, &mut d[..m], &a[..m], trig);
         }
         Instr::Binary(op, dst, a, b) => match (a, b) {
             (Src::Reg(a), Src::Reg(b)) => {
@@ -835,7 +872,10 @@ fn exec(ins: &Instr, regs: &mut [Block], uni: &[f64], m: usize) {
             // Three distinct registers (the destinations are allocated while
             // the operand is live).
             let [s, c, x] = three_mut(regs, [ds, dc, a]);
-            sm::sincos_slice(&x[..m], &mut s[..m], &mut c[..m]);
+            match trig {
+                Trig::Exact => sm::sincos_slice(&x[..m], &mut s[..m], &mut c[..m]),
+                Trig::Fast => sm::sincos_fast_slice(&x[..m], &mut s[..m], &mut c[..m]),
+            }
         }
         Instr::Blend(op, dst, s) => {
             let (d, [f1, f2, a0, a1, a2]) = split(regs, dst, s);

@@ -15,7 +15,8 @@
 //! have derivative 0.
 
 use super::{
-    binary_lane, pow_int_kernel, select_lane, sm, split, unary_lane, BatchEval, Instr, Src, LANES,
+    binary_lane, pow_int_kernel, select_lane, sm, split, unary_lane, BatchEval, Instr, Src, Trig,
+    LANES,
 };
 use crate::eval::grad::{pow_factors, r_signs, unary_factor, Grad};
 use crate::eval::Inputs;
@@ -109,7 +110,7 @@ impl BatchEval {
                 }
             }
             for ins in &prog.instrs {
-                gexec(ins, g, tmp, &uni, m);
+                gexec(ins, g, tmp, &uni, m, prog.trig);
             }
             let o = &mut out[start..start + m];
             match prog.outputs.first() {
@@ -192,15 +193,22 @@ fn put(
     }
 }
 
-fn gexec(ins: &Instr, g: &mut [Box<GBlock>], tmp: &mut [Box<GBlock>], uni: &[f64], m: usize) {
+fn gexec(
+    ins: &Instr,
+    g: &mut [Box<GBlock>],
+    tmp: &mut [Box<GBlock>],
+    uni: &[f64],
+    m: usize,
+    mode: Trig,
+) {
     match *ins {
         Instr::Unary(op, dst, a) => {
             let (d, [a]) = split(g, dst, [a]);
-            gunary(op, d, a, m);
+            gunary(op, d, a, m, mode);
         }
         Instr::SinCos(ds, dc, a) => {
             // The destinations are distinct from the operand and each other.
-            let (sv, cv) = sincos(&g[a as usize], m);
+            let (sv, cv) = sincos(&g[a as usize], m, mode);
             let (s, [x]) = split(g, ds, [a]);
             trig(s, x, &sv, &cv, false, m);
             let (c, [x]) = split(g, dc, [a]);
@@ -285,9 +293,12 @@ fn gexec(ins: &Instr, g: &mut [Box<GBlock>], tmp: &mut [Box<GBlock>], uni: &[f64
 
 /// `sin` and `cos` of the first `m` values of `a` (the batch kernels'
 /// values, one argument reduction for both).
-fn sincos(a: &GBlock, m: usize) -> ([f64; LANES], [f64; LANES]) {
+fn sincos(a: &GBlock, m: usize, mode: Trig) -> ([f64; LANES], [f64; LANES]) {
     let (mut s, mut c) = ([0.0; LANES], [0.0; LANES]);
-    sm::sincos_slice(&a.v[..m], &mut s[..m], &mut c[..m]);
+    match mode {
+        Trig::Exact => sm::sincos_slice(&a.v[..m], &mut s[..m], &mut c[..m]),
+        Trig::Fast => sm::sincos_fast_slice(&a.v[..m], &mut s[..m], &mut c[..m]),
+    }
     (s, c)
 }
 
@@ -300,11 +311,11 @@ fn trig(d: &mut GBlock, a: &GBlock, v: &[f64; LANES], k: &[f64; LANES], neg: boo
     }
 }
 
-fn gunary(op: UnaryOp, d: &mut GBlock, a: &GBlock, m: usize) {
+fn gunary(op: UnaryOp, d: &mut GBlock, a: &GBlock, m: usize, mode: Trig) {
     // Vectorised with one reduction (a branch per lane to `std`'s
     // functions would be if-converted into calls for every lane).
     if let UnaryOp::Sin | UnaryOp::Cos = op {
-        let (s, c) = sincos(a, m);
+        let (s, c) = sincos(a, m, mode);
         if op == UnaryOp::Sin {
             trig(d, a, &s, &c, false, m);
         } else {

@@ -357,7 +357,7 @@ fn run_head(
         let m = LANES.min(count - start);
         load(&mut prog.regs, start, m);
         for (i, saves) in head {
-            exec(&prog.instrs[*i as usize], &mut prog.regs, uni, m);
+            exec(&prog.instrs[*i as usize], &mut prog.regs, uni, m, prog.trig);
             for &(r, s) in saves {
                 let o = s as usize * count + start;
                 vals[o..o + m].copy_from_slice(&prog.regs[r as usize][..m]);
@@ -428,7 +428,7 @@ fn run_lines(
         load_block(prog, pts.c, start, m);
         for step in &plan.steps {
             match *step {
-                Step::Exec(i) => exec(&prog.instrs[i as usize], &mut prog.regs, uni, m),
+                Step::Exec(i) => exec(&prog.instrs[i as usize], &mut prog.regs, uni, m, prog.trig),
                 Step::Run(r, s) => {
                     let v = &rv[s as usize * runs + first..(s as usize + 1) * runs];
                     gather(&mut prog.regs[r as usize][..m], v, &run_of[..m]);
