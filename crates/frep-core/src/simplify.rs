@@ -43,8 +43,8 @@
 
 use crate::eval::interval::{can_choose, Choice, Decided, IntervalEval, Pick};
 use crate::graph::{Node, NodeId, Tape};
+use crate::hash::FastMap;
 use crate::ops::{BinaryOp, UnaryOp};
-use std::collections::HashMap;
 
 /// What [`simplify`] must keep.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -289,7 +289,7 @@ pub fn simplify_with_stats(
     }
     let mut nodes = Vec::with_capacity(n);
     let mut map = vec![NodeId(u32::MAX); n];
-    let mut consts: HashMap<u64, NodeId> = HashMap::new();
+    let mut consts: FastMap<u64, NodeId> = FastMap::default();
     let mut push = |nodes: &mut Vec<Node>, node: Node| {
         if let Node::Const(bits) = node {
             if let Some(&id) = consts.get(&bits) {
@@ -314,7 +314,11 @@ pub fn simplify_with_stats(
         };
     }
     let outputs: Vec<NodeId> = tape.outputs.iter().map(|o| map[o.index()]).collect();
-    let out = Tape::from_nodes(&nodes, &outputs);
+    // Every node pushed is reachable from an output (a live node is used by
+    // a live parent, or is what one aliases to), in order: the tape as it
+    // stands, no compaction needed.
+    let out = Tape { nodes, outputs };
+    debug_assert_eq!(out, Tape::from_nodes(&out.nodes, &out.outputs));
     let stats = SimplifyStats {
         before: n,
         after: out.len(),
@@ -349,6 +353,8 @@ mod tests {
         let (t, stats) = simplify_with_stats(tape, ev.choices(), mode);
         assert!(stats.after <= stats.before);
         assert_eq!(stats.after, t.len());
+        // Compact as built: every node reachable, in order.
+        assert_eq!(t, Tape::from_nodes(&t.nodes, &t.outputs));
         t
     }
 
