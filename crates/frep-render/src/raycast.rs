@@ -237,7 +237,7 @@ pub struct ModelCaster {
     /// module docs). Default on; off for comparisons.
     pub exact: bool,
     /// How the batch evaluators of samples, refinement and normals compute
-    /// `sin` and `cos`. Default [`Trig::Fast`] (within about `5e-14` of
+    /// `sin` and `cos`. Default [`Trig::Fast`] (within about `2e-14` of
     /// the value, not an ulp: a sign test at a sample, a hit refined to a
     /// fraction of a footprint and a normal for shading need no more; the
     /// gyroid's frame costs about a tenth less time); [`Trig::Exact`] for
