@@ -255,23 +255,10 @@ impl ModelCaster {
     /// A caster of `model` with these parameter values, clipped to `bounds`.
     pub fn new(model: &Model, inputs: Inputs, bounds: Aabb) -> ModelCaster {
         ModelCaster {
-            tape: model.tape(),
             attr_tape: model
                 .attribute_tape()
                 .filter(|t| model.s_dim >= 3 && t.outputs.len() >= 3),
-            inputs,
-            bounds,
-            cancel: None,
-            step_px: 2.0,
-            fallback_depth: 3,
-            leaf_depth_px: 16.0,
-            narrow_px: 4.0,
-            prune_after: 3,
-            lines: true,
-            exact: true,
-            trig: Trig::Fast,
-            stats: AtomicStats::default(),
-            pool: Mutex::new(Vec::new()),
+            ..ModelCaster::from_tape(model.tape(), inputs, bounds)
         }
     }
 
