@@ -776,6 +776,84 @@ fn two_views_on_off(model: &Model) -> Vec<(f64, Camera, OnOff)> {
         .collect()
 }
 
+/// The rays of quadric slabs solved in blocks
+/// ([`ModelCaster::quadric_blocks`]) get the hits they get one at a time,
+/// bit for bit: depths, positions and normals, on the quadric examples and
+/// an ellipsoid, in an orthographic view along an axis, an oblique one and
+/// two perspective views. On one thread: a shortened tape's quadric is
+/// fitted where the first tile that needs it on a thread meets it, so the
+/// last bits of its coefficients, and of the hits, depend on which tiles
+/// each thread took.
+#[test]
+fn quadric_blocks_equal_single_rays() {
+    let mut models: Vec<(String, String)> = [
+        "m1_sphere.hf",
+        "sphere.hf",
+        "semi_sphere.hf",
+        "m2_spheres100.hf",
+        "closed_cylinder.hf",
+        "cylinder.hf",
+    ]
+    .iter()
+    .map(|f| (f.to_string(), example(f)))
+    .collect();
+    models.push((
+        "ellipsoid".into(),
+        "my_model(x[3], a[1]) { my_model = 0.6 - (x[1] - 0.1)^2 - 2 * x[2]^2 \
+         - 0.5 * x[3]^2 - 0.4 * x[1] * x[3]; }"
+            .into(),
+    ));
+    let views = [
+        (0.0, 90.0, None),
+        (35.0, 25.0, None),
+        (30.0, 20.0, Some(30.0)),
+        (200.0, -10.0, Some(60.0)),
+    ];
+    let bits = |h: &Option<frep_render::Hit>| {
+        h.map(|h| {
+            let v = [h.t, h.position[0], h.position[1], h.position[2]];
+            let n = h.normal;
+            [v[0], v[1], v[2], v[3], n[0], n[1], n[2]].map(f64::to_bits)
+        })
+    };
+    let one_thread = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap();
+    for (name, src) in &models {
+        let model = Model::compile(src).unwrap();
+        let b = if src.contains("-- bounds:") {
+            bounds_of(src)
+        } else {
+            Aabb::new([-1.0; 3], [1.0; 3])
+        };
+        for &(yaw, pitch, fov) in &views {
+            let cam = Camera::orbit(&b, yaw, pitch, fov);
+            let cast = |blocks: bool| {
+                let mut c = ModelCaster::new(&model, Inputs::default(), b);
+                c.quadric_blocks = blocks;
+                let hits = one_thread.install(|| cast_tiled(&c, &cam, 96, 96, 32));
+                (hits, c.stats())
+            };
+            let ((on, on_st), (off, off_st)) = (cast(true), cast(false));
+            assert!(
+                on.hit_count() > 200,
+                "{name} yaw {yaw}: {} hits",
+                on.hit_count()
+            );
+            assert!(on_st.exact_rays > 0, "{name} yaw {yaw}: {on_st:?}");
+            assert_eq!(on_st, off_st, "{name} yaw {yaw}: the work differs");
+            for (j, (a, o)) in on.hits.iter().zip(&off.hits).enumerate() {
+                assert_eq!(
+                    bits(a),
+                    bits(o),
+                    "{name} yaw {yaw} pitch {pitch}: pixel {j}"
+                );
+            }
+        }
+    }
+}
+
 /// Slabs settled in closed form where the shortened tape is a polynomial of
 /// degree 2 ([`ModelCaster::exact`]) give the hits of sampling them: on
 /// every example, in a top view along an axis and two perspective views,
