@@ -138,8 +138,11 @@ use crate::image::{Hit, HitBuffer, Image, Lighting, Shader};
 use crate::tiles::{cast_tiled, for_each_dynamic, tile_rows, tiles, Tile, TileCaster};
 
 /// An interval evaluation costs about this many point evaluations (in a
-/// batch) of the same tape.
-const INTERVAL_COST: f64 = 4.0;
+/// batch) of the same tape: the weight of a whole-ray check against the
+/// samples it may save ([`ModelCaster::prune_after`]). Tuned on the
+/// turntable views: 8 rather than 4 saves 1.6 % of android_robot's frame
+/// and 1 % of sake_pot's, the other views within 0.3 %.
+const INTERVAL_COST: f64 = 8.0;
 
 /// Leaves of the tile subdivision are at most this many pixels wide.
 pub const LEAF: u32 = 8;
