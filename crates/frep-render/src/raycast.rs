@@ -249,8 +249,8 @@ pub struct ModelCaster {
     /// colours, are solved in blocks of up to a leaf's, the common case in
     /// branch-free passes over arrays that vectorise
     /// (`TileCtx::quadric_block`), not one at a time: the same hits, bit
-    /// for bit, for about a quarter less work on a sphere's frame. Default
-    /// on; off for comparisons.
+    /// for bit, for about 30 % fewer instructions on a sphere's top view.
+    /// Default on; off for comparisons.
     pub quadric_blocks: bool,
     /// How the batch evaluators of samples, refinement and normals compute
     /// `sin` and `cos`. Default [`Trig::Fast`] (within about `2e-14` of
@@ -2058,7 +2058,6 @@ impl<'a> TileCtx<'a> {
         }
         self.sc.polys[i] = *p;
         let root = p.root_from(0.0, 1.0, p.c, tol, lo, hi);
-
         let settled = self.settle_root(p, root, e, i, lo, hi);
         self.stats.exact_rays += u64::from(settled);
         Some(settled)
