@@ -380,17 +380,6 @@ impl RayMaker {
         }
     }
 
-    /// [`RayMaker::pixel_footprint`] as a rule, for loops over many
-    /// depths: `(true, f)` where the footprint at `t` is `|t|·f`
-    /// (perspective), `(false, f)` where it is `f` throughout.
-    #[inline]
-    pub(crate) fn footprint_rule(&self) -> (bool, f64) {
-        match self.cam.projection {
-            Projection::Perspective { .. } => (true, self.footprint),
-            Projection::Orthographic { .. } => (false, self.footprint),
-        }
-    }
-
     /// [`Camera::tile_frustum`].
     pub fn frustum(&self, x0: u32, y0: u32, x1: u32, y1: u32) -> Frustum {
         let (x0, y0, x1, y1) = (x0 as f64, y0 as f64, x1 as f64, y1 as f64);

@@ -60,7 +60,7 @@
 //!    then comes from them and the hit's normal from the quadric's
 //!    gradient: no samples and no gradient evaluation per ray (for a model
 //!    with no colours, a leaf's rays at once: the common case, a clear
-//!    crossing, in one branch-free pass over arrays that vectorises,
+//!    crossing, in one pass over arrays that vectorises,
 //!    [`ModelCaster::quadric_blocks`]; for a model
 //!    with attribute colours the normals are evaluated with the colours;
 //!    where the four points give no quadric, a value not finite there,
@@ -247,7 +247,7 @@ pub struct ModelCaster {
     pub exact: bool,
     /// Whether the rays of such a slab on a quadric, for a model with no
     /// colours, are solved in blocks of up to a leaf's, the common case in
-    /// branch-free passes over arrays that vectorise
+    /// a pass over arrays that vectorises
     /// (`TileCtx::quadric_block`), not one at a time: the same hits, bit
     /// for bit, for about 30 % fewer instructions on a sphere's top view.
     /// Default on; off for comparisons.
@@ -1239,6 +1239,17 @@ impl RayPoly {
         self.tol_s(self.s_of(za), self.s_of(zb))
     }
 
+    /// Whether the polynomial, fitted over its own slab, is finite and
+    /// clearly outside at the slab's start: below `−1e-9` of its scale,
+    /// the rounding allowance there ([`TileCtx::take_fresh`]'s case).
+    #[inline]
+    fn fresh_outside(&self) -> bool {
+        let finite = [self.a, self.b, self.c, self.scale]
+            .iter()
+            .all(|v| v.is_finite());
+        finite && self.w > 0.0 && self.c < -1e-9 * self.scale
+    }
+
     /// The smallest fraction past `s0` where `q = 0` (`∞` where none).
     #[inline]
     fn first_s(&self, s0: f64) -> f64 {
@@ -2051,13 +2062,11 @@ impl<'a> TileCtx<'a> {
     /// this one (for `take_poly`).
     #[inline]
     fn take_fresh(&mut self, p: &RayPoly, e: usize, i: usize, lo: f64, hi: f64) -> Option<bool> {
-        let finite = [p.a, p.b, p.c, p.scale].iter().all(|v| v.is_finite());
-        let tol = 1e-9 * p.scale;
-        if !(finite && p.w > 0.0 && p.c < -tol) {
+        if !p.fresh_outside() {
             return None;
         }
         self.sc.polys[i] = *p;
-        let root = p.root_from(0.0, 1.0, p.c, tol, lo, hi);
+        let root = p.root_from(0.0, 1.0, p.c, 1e-9 * p.scale, lo, hi);
         let settled = self.settle_root(p, root, e, i, lo, hi);
         self.stats.exact_rays += u64::from(settled);
         Some(settled)
@@ -2069,7 +2078,7 @@ impl<'a> TileCtx<'a> {
     /// [`RayPoly::of_quadric`] and [`TileCtx::take_poly`] do for each, with
     /// the common case — a clear crossing in the slab, recorded with the
     /// quadric's normal — worked out for all rays at once in one
-    /// branch-free pass over arrays (which vectorises), the same values
+    /// pass over arrays (which vectorises), the same values
     /// bit for bit; every other ray is taken as before
     /// ([`TileCtx::take_fresh`] or `take_poly`), in the rays' order.
     /// Returns whether every ray was settled.
@@ -2097,7 +2106,6 @@ impl<'a> TileCtx<'a> {
             }
             (rc[j], lo[j], hi[j]) = (r.c, l, h);
         }
-        let (per_depth, fp) = self.rm.footprint_rule();
         let mut pa = [0.0f64; B];
         let mut pb = [0.0f64; B];
         let mut pc = [0.0f64; B];
@@ -2115,58 +2123,38 @@ impl<'a> TileCtx<'a> {
             let wd = h - l;
             let [a, b, c, scale] = RayPoly::coefficients(l, h, quad.along_ray(oj, d));
             (pa[j], pb[j], pc[j], ps[j]) = (a, b, c, scale);
-            // `take_fresh`'s case: finite, clearly outside at `lo`.
-            let tol = 1e-9 * scale;
-            let fresh = a.is_finite()
-                && b.is_finite()
-                && c.is_finite()
-                && scale.is_finite()
-                && wd > 0.0
-                && c < -tol;
-            // `RayPoly::first_s(0)`.
-            let lin = if b > 0.0 { -c / b } else { f64::INFINITY };
-            let disc = b * b - 4.0 * a * c;
-            let q = -0.5 * (b + disc.sqrt().copysign(b));
-            let (r1, r2) = (q / a, c / q);
-            let mut quad_first = f64::INFINITY;
-            if r1 > 0.0 && r1 < quad_first {
-                quad_first = r1;
-            }
-            if r2 > 0.0 && r2 < quad_first {
-                quad_first = r2;
-            }
-            let quad_first = if disc >= 0.0 {
-                quad_first
-            } else {
-                f64::INFINITY
+            let p = RayPoly {
+                tag,
+                lo: l,
+                w: wd,
+                a,
+                b,
+                c,
+                scale,
+                k,
             };
-            let first = if a == 0.0 { lin } else { quad_first };
-            // `RayPoly::root_from`'s crossing, clamped as `f64::clamp`.
+            // `take_fresh`'s case, then `RayPoly::root_from`'s crossing and
+            // `TileCtx::clear_at`.
+            let fresh = p.fresh_outside();
+            let first = p.first_s(0.0);
             let mut z = l + wd * first;
+            // (`f64::clamp`, which would panic on the idle lanes' NaNs.)
             if z < l {
                 z = l;
             }
             if z > h {
                 z = h;
             }
-            // `TileCtx::clear_at`.
-            let foot = if per_depth { z.abs() * fp } else { fp };
-            let dd = EXACT_BRACKET_PX * foot;
-            let (za, zb) = ((z - dd).max(l), (z + dd).min(h));
-            let (sa, sb) = ((za - l) / wd, (zb - l) / wd);
-            let (fa, fb) = ((a * sa + b) * sa + c, (a * sb + b) * sb + c);
-            let m = sa.abs().max(sb.abs()).max(1.0);
-            let tol_ab = 1e-9 * scale * (m * m);
-            let clear = fa < -tol_ab && fb > tol_ab;
+            let clear = self.clear_at(&p, z, l, h);
             // `Quadric::hit`: the position and the normal, `unit`'s common
             // case.
-            let p = [oj[0] + d[0] * z, oj[1] + d[1] * z, oj[2] + d[2] * z];
-            let gr = quad.grad(p);
+            let at = [oj[0] + d[0] * z, oj[1] + d[1] * z, oj[2] + d[2] * z];
+            let gr = quad.grad(at);
             let nn = [-gr[0], -gr[1], -gr[2]];
             let l2 = dot(nn, nn);
             let kk = 1.0 / l2.sqrt();
             for a in 0..3 {
-                pos[a][j] = p[a];
+                pos[a][j] = at[a];
                 nrm[a][j] = nn[a] * kk;
             }
             zs[j] = z;
