@@ -341,32 +341,55 @@ impl RayMaker {
         self.ray_at(px as f64 + 0.5, py as f64 + 0.5)
     }
 
-    /// Calls `f` with the ray through the centre of every pixel of
-    /// `[x0, x1) × [y0, y1)`, row by row: the rays of [`RayMaker::ray`], bit
-    /// for bit, with the terms of each row and column computed once.
-    pub fn for_each_ray(&self, x0: u32, y0: u32, x1: u32, y1: u32, mut f: impl FnMut(Ray)) {
+    /// The rays through the centres of the `L` pixels from `(x0, py)` along
+    /// row `py`, as lanes (`origin[k][j]`, `dir[k][j]`): the rays of
+    /// [`RayMaker::ray`], bit for bit, with the row's terms computed once
+    /// and the lanes in one pass (which the compiler turns into vector
+    /// code). Pixels past the image's edge get the rays their coordinates
+    /// give; callers ignore them.
+    #[inline]
+    pub fn row_lanes<const L: usize>(
+        &self,
+        x0: u32,
+        py: u32,
+        origin: &mut [[f64; L]; 3],
+        dir: &mut [[f64; L]; 3],
+    ) {
         let c = &self.cam;
-        let cols: Vec<[f64; 3]> = (x0..x1)
-            .map(|px| {
-                let u = (px as f64 + 0.5 - self.hw) / self.s;
-                scale(c.right, u * self.k)
-            })
-            .collect();
-        for py in y0..y1 {
-            let v = (self.hh - (py as f64 + 0.5)) / self.s;
-            let row = scale(c.up, v * self.k);
-            for &col in &cols {
-                let off = add(col, row);
-                f(match c.projection {
-                    Projection::Perspective { .. } => Ray {
-                        origin: c.eye,
-                        dir: normalize(add(c.forward, off)),
-                    },
-                    Projection::Orthographic { .. } => Ray {
-                        origin: add(c.eye, off),
-                        dir: c.forward,
-                    },
-                });
+        let v = (self.hh - (py as f64 + 0.5)) / self.s;
+        let row = scale(c.up, v * self.k);
+        let mut off = [[0.0f64; L]; 3];
+        for j in 0..L {
+            let u = ((x0 + j as u32) as f64 + 0.5 - self.hw) / self.s;
+            for k in 0..3 {
+                off[k][j] = c.right[k] * (u * self.k) + row[k];
+            }
+        }
+        match c.projection {
+            Projection::Perspective { .. } => {
+                for j in 0..L {
+                    let a = [
+                        c.forward[0] + off[0][j],
+                        c.forward[1] + off[1][j],
+                        c.forward[2] + off[2][j],
+                    ];
+                    // `normalize`, as a select.
+                    let l = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+                    let r = 1.0 / l;
+                    let ok = l > 0.0 && l.is_finite();
+                    for k in 0..3 {
+                        origin[k][j] = c.eye[k];
+                        dir[k][j] = if ok { a[k] * r } else { a[k] };
+                    }
+                }
+            }
+            Projection::Orthographic { .. } => {
+                for j in 0..L {
+                    for k in 0..3 {
+                        origin[k][j] = c.eye[k] + off[k][j];
+                        dir[k][j] = c.forward[k];
+                    }
+                }
             }
         }
     }
@@ -457,6 +480,32 @@ mod tests {
                 // Odd size: the centre pixel's ray.
                 let r = cam.ray(50, 50, 101, 101);
                 assert!(dist_to_ray(&r, b.center()) < 1e-9);
+            }
+        }
+    }
+
+    /// `row_lanes` gives `ray`'s rays bit for bit, in both projections, at
+    /// odd and even sizes, past the image's right edge too.
+    #[test]
+    fn row_lanes_match_ray() {
+        let b = Aabb::new([-1.0, 0.5, -2.0], [3.0, 1.5, 0.0]);
+        for fov in [Some(35.0), None] {
+            for (w, h) in [(7, 5), (64, 48)] {
+                let rm = Camera::orbit(&b, 130.0, -35.0, fov).rays(w, h);
+                for py in 0..h {
+                    for x0 in (0..w).step_by(8) {
+                        let mut o = [[0.0; 8]; 3];
+                        let mut d = [[0.0; 8]; 3];
+                        rm.row_lanes(x0, py, &mut o, &mut d);
+                        for j in 0..8 {
+                            let r = rm.ray(x0 + j as u32, py);
+                            for k in 0..3 {
+                                assert_eq!(o[k][j].to_bits(), r.origin[k].to_bits());
+                                assert_eq!(d[k][j].to_bits(), r.dir[k].to_bits());
+                            }
+                        }
+                    }
+                }
             }
         }
     }
