@@ -360,7 +360,7 @@ impl RayMaker {
         let row = scale(c.up, v * self.k);
         let mut off = [[0.0f64; L]; 3];
         for j in 0..L {
-            let u = ((x0 + j as u32) as f64 + 0.5 - self.hw) / self.s;
+            let u = (f64::from(x0) + j as f64 + 0.5 - self.hw) / self.s;
             for k in 0..3 {
                 off[k][j] = c.right[k] * (u * self.k) + row[k];
             }
