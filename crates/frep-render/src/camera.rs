@@ -347,6 +347,8 @@ impl RayMaker {
     /// and the lanes in one pass (which the compiler turns into vector
     /// code). Pixels past the image's edge get the rays their coordinates
     /// give; callers ignore them.
+    // (The lane passes index several arrays at once.)
+    #[allow(clippy::needless_range_loop)]
     #[inline]
     pub fn row_lanes<const L: usize>(
         &self,
