@@ -3592,6 +3592,98 @@ mod tests {
         }
     }
 
+    /// `set_up_rays` gives each ray of a tile what `RayMaker::ray`,
+    /// `per_dir` and `Ray::clip_inv` give it one at a time, bit for bit: in
+    /// perspective and orthographic views, oblique and straight along an
+    /// axis (directions with zero components, origins on the box's faces,
+    /// whose slab tests meet `0 · ∞`), in tiles narrower than a lane pass
+    /// and cut off by the image's edge, with rays that miss the box.
+    #[test]
+    fn set_up_rays_match_one_ray_at_a_time() {
+        let b = Aabb::new([-1.0, -0.5, -2.0], [1.0, 0.5, 0.0]);
+        let tape = Model::compile("my_model(x[3], a[1]) { my_model = 1 - x[1]*x[1]; }")
+            .unwrap()
+            .tape()
+            .clone();
+        let mut sc = Scratch::new(&tape);
+        let axis = Camera {
+            eye: [0.0, 0.25, 5.0],
+            target: [0.0, 0.25, 0.0],
+            forward: [0.0, 0.0, -1.0],
+            right: [1.0, 0.0, 0.0],
+            up: [0.0, 1.0, 0.0],
+            projection: Projection::Orthographic { half_extent: 1.0 },
+        };
+        let cams = [
+            Camera::orbit(&b, 30.0, 20.0, Some(30.0)),
+            Camera::orbit(&b, 200.0, -60.0, Some(60.0)),
+            Camera::orbit(&b, 35.0, 25.0, None),
+            axis,
+        ];
+        for (c, cam) in cams.into_iter().enumerate() {
+            let (w, h) = (21, 19);
+            let rm = cam.rays(w, h);
+            // Straight along the axis: the box's x faces through the
+            // origins of columns 3 and 17, whose slab tests give `0 · ∞`.
+            let b = if c == 3 {
+                let (lo, hi) = (rm.ray(3, 0).origin[0], rm.ray(17, 0).origin[0]);
+                Aabb::new([lo, b.min[1], b.min[2]], [hi, b.max[1], b.max[2]])
+            } else {
+                b
+            };
+            let tile = |x0, y0, x1, y1| Tile {
+                x0,
+                y0,
+                x1,
+                y1,
+                width: w,
+                height: h,
+            };
+            for tile in [tile(0, 0, 21, 19), tile(5, 3, 10, 7), tile(16, 11, 21, 19)] {
+                let n = (tile.w() * tile.h()) as usize;
+                sc.rays.resize(n, RayInfo::default());
+                sc.z0s.resize(n, 0.0);
+                sc.z1s.resize(n, 0.0);
+                let fixed = matches!(cam.projection, Projection::Orthographic { .. })
+                    .then(|| per_dir(cam.forward, cam.forward));
+                set_up_rays(&b, cam.forward, fixed, rm, &tile, &mut sc);
+                let mut k = 0;
+                let mut misses = 0;
+                for py in tile.y0..tile.y1 {
+                    for px in tile.x0..tile.x1 {
+                        let r = rm.ray(px, py);
+                        let (c, dz, inv) = per_dir(r.dir, cam.forward);
+                        let got = &sc.rays[k];
+                        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                        assert_eq!(bits(&got.origin), bits(&r.origin));
+                        assert_eq!(bits(&got.dir), bits(&r.dir));
+                        assert_eq!(bits(&got.dz), bits(&dz));
+                        assert_eq!(got.c.to_bits(), c.to_bits());
+                        match r.clip_inv(&b, inv) {
+                            Some((t0, t1)) => {
+                                assert!(got.live);
+                                assert_eq!(got.z0.to_bits(), (t0 * c).to_bits());
+                                assert_eq!(got.z1.to_bits(), (t1 * c).to_bits());
+                                assert_eq!((sc.z0s[k], sc.z1s[k]), (got.z0, got.z1));
+                            }
+                            None => {
+                                assert!(!got.live);
+                                assert_eq!(sc.z0s[k], f64::INFINITY);
+                                assert_eq!(sc.z1s[k], f64::NEG_INFINITY);
+                                misses += 1;
+                            }
+                        }
+                        k += 1;
+                    }
+                }
+                assert_eq!(k, n);
+                if tile.x1 - tile.x0 == w {
+                    assert!(misses > 0 && misses < n, "{misses} of {n} rays miss");
+                }
+            }
+        }
+    }
+
     #[test]
     fn first_root_of_a_quadratic() {
         // Enters at 2, leaves at 3: the first crossing, inside the slab.
