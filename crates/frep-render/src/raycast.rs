@@ -1370,21 +1370,31 @@ fn per_dir(d: [f64; 3], forward: [f64; 3]) -> (f64, [f64; 3], [f64; 3]) {
 /// How many rays of a row [`set_up_rays`] computes in one pass.
 const SETUP_LANES: usize = 8;
 
-/// Fills `sc.rays`, `sc.z0s` and `sc.z1s` (sized for the tile) with the
-/// tile's rays, row by row: each ray's [`per_dir`] terms (`fixed` where all
-/// rays share the camera's direction) and its depth range inside `bounds`
-/// ([`Ray::clip_inv`]), for [`SETUP_LANES`] rays at a time in passes over
-/// arrays, which the compiler turns into vector code. The same bits as one
-/// ray at a time.
+/// Sizes `sc.rays`, `sc.z0s` and `sc.z1s` for the tile and fills them with
+/// its rays (`rm`, of `cam`), row by row: each ray's [`per_dir`] terms and
+/// its depth range inside `bounds` ([`Ray::clip_inv`]), for
+/// [`SETUP_LANES`] rays at a time in passes over arrays, which the compiler
+/// turns into vector code. The same bits as one ray at a time. Returns the
+/// [`per_dir`] terms all rays share (those of the camera's axis) in an
+/// orthographic view.
 fn set_up_rays(
     bounds: &Aabb,
-    forward: [f64; 3],
-    fixed: Option<(f64, [f64; 3], [f64; 3])>,
+    cam: &Camera,
     rm: RayMaker,
     tile: &Tile,
     sc: &mut Scratch,
-) {
+) -> Option<(f64, [f64; 3], [f64; 3])> {
     const L: usize = SETUP_LANES;
+    let forward = cam.forward;
+    // Once for all rays of an orthographic view (their direction is the
+    // camera's axis).
+    let fixed = matches!(cam.projection, Projection::Orthographic { .. })
+        .then(|| per_dir(forward, forward));
+    let n = (tile.w() * tile.h()) as usize;
+    sc.rays.resize(n, RayInfo::default());
+    sc.z0s.resize(n, 0.0);
+    sc.z1s.resize(n, 0.0);
+    let (rays, z0s, z1s) = (&mut sc.rays[..n], &mut sc.z0s[..n], &mut sc.z1s[..n]);
     let mut k = 0;
     for py in tile.y0..tile.y1 {
         let mut x = tile.x0;
@@ -1437,7 +1447,7 @@ fn set_up_rays(
                 } else {
                     (0.0, 0.0)
                 };
-                sc.rays[k] = RayInfo {
+                rays[k] = RayInfo {
                     origin: [o[0][j], o[1][j], o[2][j]],
                     dir: [d[0][j], d[1][j], d[2][j]],
                     dz: [dz[0][j], dz[1][j], dz[2][j]],
@@ -1446,7 +1456,7 @@ fn set_up_rays(
                     z1,
                     live,
                 };
-                (sc.z0s[k], sc.z1s[k]) = if live {
+                (z0s[k], z1s[k]) = if live {
                     (z0, z1)
                 } else {
                     (f64::INFINITY, f64::NEG_INFINITY)
@@ -1456,7 +1466,8 @@ fn set_up_rays(
             x += n as u32;
         }
     }
-    debug_assert_eq!(k, sc.rays.len(), "every ray of the tile set up");
+    debug_assert_eq!(k, n, "every ray of the tile set up");
+    fixed
 }
 
 fn clip_box(b: &Aabb, bounds: &Aabb) -> Option<Aabb> {
@@ -1485,15 +1496,7 @@ impl<'a> TileCtx<'a> {
         out: &'a mut [Option<Hit>],
         sc: &'a mut Scratch,
     ) -> TileCtx<'a> {
-        let n = (tile.w() * tile.h()) as usize;
-        sc.rays.resize(n, RayInfo::default());
-        sc.z0s.resize(n, 0.0);
-        sc.z1s.resize(n, 0.0);
-        // Once for all rays of an orthographic view (their direction is the
-        // camera's axis).
-        let fixed = matches!(cam.projection, Projection::Orthographic { .. })
-            .then(|| per_dir(cam.forward, cam.forward));
-        set_up_rays(&caster.bounds, cam.forward, fixed, rm, tile, sc);
+        let fixed = set_up_rays(&caster.bounds, cam, rm, tile, sc);
         let mut live = sc.rays.iter().filter(|r| r.live);
         let uniform = live.next().map(|r| (r.z0, r.z1)).filter(|&(z0, z1)| {
             live.all(|r| r.z0.to_bits() == z0.to_bits() && r.z1.to_bits() == z1.to_bits())
@@ -3641,12 +3644,9 @@ mod tests {
             };
             for tile in [tile(0, 0, 21, 19), tile(5, 3, 10, 7), tile(16, 11, 21, 19)] {
                 let n = (tile.w() * tile.h()) as usize;
-                sc.rays.resize(n, RayInfo::default());
-                sc.z0s.resize(n, 0.0);
-                sc.z1s.resize(n, 0.0);
-                let fixed = matches!(cam.projection, Projection::Orthographic { .. })
-                    .then(|| per_dir(cam.forward, cam.forward));
-                set_up_rays(&b, cam.forward, fixed, rm, &tile, &mut sc);
+                let fixed = set_up_rays(&b, &cam, rm, &tile, &mut sc);
+                let ortho = matches!(cam.projection, Projection::Orthographic { .. });
+                assert_eq!(fixed.is_some(), ortho);
                 let mut k = 0;
                 let mut misses = 0;
                 for py in tile.y0..tile.y1 {
