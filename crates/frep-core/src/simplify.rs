@@ -43,7 +43,6 @@
 
 use crate::eval::interval::{can_choose, Choice, Decided, IntervalEval, Pick};
 use crate::graph::{Node, NodeId, Tape};
-use crate::hash::FastMap;
 use crate::ops::{BinaryOp, UnaryOp};
 
 /// What [`simplify`] must keep.
@@ -63,13 +62,6 @@ pub struct SimplifyStats {
     pub before: usize,
     /// Nodes of the simplified tape.
     pub after: usize,
-}
-
-#[derive(Clone, Copy)]
-enum Rewrite {
-    Keep,
-    Alias(NodeId),
-    Const(f64),
 }
 
 /// Whether the child at `pos` of `node` is used only for its sign when
@@ -129,6 +121,9 @@ pub struct ChoiceMask {
     /// be used for their sign alone, and those that can pick an argument or
     /// a branch or be a decided boolean. In order.
     nodes: Vec<u32>,
+    /// Per entry of `nodes`, whether that node can choose ([`can_choose`]):
+    /// else only its `decided` can differ from the default.
+    chooses: Vec<bool>,
     /// See [`ChoiceMask::can_shorten`].
     can_shorten: bool,
 }
@@ -170,10 +165,15 @@ impl ChoiceMask {
             .filter(|&i| may[i] || can_choose(&tape.nodes[i]))
             .map(|i| i as u32)
             .collect();
-        let can_shorten = nodes.iter().any(|&i| can_choose(&tape.nodes[i as usize]));
+        let chooses: Vec<bool> = nodes
+            .iter()
+            .map(|&i| can_choose(&tape.nodes[i as usize]))
+            .collect();
+        let can_shorten = chooses.contains(&true);
         ChoiceMask {
             sign_context: may,
             nodes,
+            chooses,
             can_shorten,
         }
     }
@@ -194,9 +194,17 @@ impl ChoiceMask {
     /// [`Decided::No`]), into `out`.
     pub fn key(&self, ev: &IntervalEval, out: &mut Vec<Choice>) {
         out.clear();
-        out.extend(self.nodes.iter().map(|&i| {
-            let c = ev.choice(i as usize);
-            if self.sign_context[i as usize] {
+        out.extend(self.nodes.iter().zip(&self.chooses).map(|(&i, &chooses)| {
+            let i = i as usize;
+            if !chooses {
+                // In the mask for its sign: only `decided` can be set.
+                return Choice {
+                    decided: ev.decided(i),
+                    ..Choice::default()
+                };
+            }
+            let c = ev.choice(i);
+            if self.sign_context[i] {
                 c
             } else {
                 Choice {
@@ -235,95 +243,175 @@ pub fn simplify_with_stats(
     choices: &[Choice],
     mode: SimplifyMode,
 ) -> (Tape, SimplifyStats) {
-    let n = tape.len();
-    assert_eq!(choices.len(), n, "choices of another tape");
-    let mut live = vec![false; n];
-    let mut exact = vec![false; n];
-    for (k, o) in tape.outputs.iter().enumerate() {
-        live[o.index()] = true;
-        if k > 0 || mode == SimplifyMode::Exact {
-            exact[o.index()] = true;
+    Simplifier::default().simplify(tape, choices, mode)
+}
+
+/// [`simplify`] with its working buffers kept from call to call: for a
+/// caller that shortens many tapes (a renderer, box after box).
+#[derive(Clone, Debug, Default)]
+pub struct Simplifier {
+    /// Per node, [`LIVE`] and [`EXACT`].
+    flags: Vec<u8>,
+    /// Per live node, what it becomes: [`KEEP`], one of the constants
+    /// [`CONSTS`] (`CONST_BASE + k`), or the id of the node it aliases.
+    rewrite: Vec<u32>,
+    /// Per live node, its id in the simplified tape.
+    map: Vec<u32>,
+}
+
+/// The node is used (by a live parent, or as an output).
+const LIVE: u8 = 1;
+/// Its value is used exactly (not only its sign).
+const EXACT: u8 = 2;
+/// [`Simplifier::rewrite`]: the node stays, its children mapped.
+const KEEP: u32 = u32::MAX;
+/// The constants a node may become, by their code `CONST_BASE + k`.
+const CONSTS: [f64; 3] = [1.0, -1.0, 0.0];
+const CONST_BASE: u32 = u32::MAX - 3;
+
+impl Simplifier {
+    /// [`simplify_with_stats`]. Constants the tape holds once each stay so,
+    /// and the constants simplifying brings in (0, 1, −1) are the tape's
+    /// own where it has them.
+    pub fn simplify(
+        &mut self,
+        tape: &Tape,
+        choices: &[Choice],
+        mode: SimplifyMode,
+    ) -> (Tape, SimplifyStats) {
+        let n = tape.len();
+        assert_eq!(choices.len(), n, "choices of another tape");
+        assert!(n < CONST_BASE as usize, "tape too long to simplify");
+        let flags = &mut self.flags;
+        flags.clear();
+        flags.resize(n, 0);
+        // Only live nodes' entries are written, then read.
+        if self.rewrite.len() < n {
+            self.rewrite.resize(n, KEEP);
+            self.map.resize(n, 0);
         }
-    }
-    // Parents before children: each node's context is known when reached.
-    let mut rewrite = vec![Rewrite::Keep; n];
-    for i in (0..n).rev() {
-        if !live[i] {
-            continue;
+        let rewrite = &mut self.rewrite[..n];
+        for (k, o) in tape.outputs.iter().enumerate() {
+            let exact = k > 0 || mode == SimplifyMode::Exact;
+            flags[o.index()] |= LIVE | if exact { EXACT } else { 0 };
         }
-        let node = &tape.nodes[i];
-        let c = choices[i];
-        let sign_only = !exact[i];
-        let pick = if sign_only { c.sign } else { c.exact };
-        let r = match (sign_only, c.decided) {
-            (true, Decided::Positive) => Rewrite::Const(1.0),
-            (true, Decided::Negative) => Rewrite::Const(-1.0),
-            _ => match pick {
-                Pick::False => Rewrite::Const(0.0),
-                Pick::True => Rewrite::Const(1.0),
-                Pick::Both => match node {
-                    Node::Check(_, v) => Rewrite::Alias(*v),
-                    _ => Rewrite::Keep,
-                },
-                _ => picked(node, pick).map_or(Rewrite::Keep, Rewrite::Alias),
-            },
-        };
-        match r {
-            Rewrite::Const(_) => {}
-            Rewrite::Alias(ch) => {
-                live[ch.index()] = true;
-                if !sign_only {
-                    exact[ch.index()] = true;
-                }
+        // Parents before children: each node's context is known when reached.
+        for i in (0..n).rev() {
+            let f = flags[i];
+            if f & LIVE == 0 {
+                continue;
             }
-            Rewrite::Keep => {
-                for (pos, ch) in node.children().enumerate() {
-                    live[ch.index()] = true;
-                    if !sign_only || !is_sign_use(node, pos) {
-                        exact[ch.index()] = true;
+            let node = &tape.nodes[i];
+            let c = choices[i];
+            let sign_only = f & EXACT == 0;
+            let pick = if sign_only { c.sign } else { c.exact };
+            let r = match (sign_only, c.decided) {
+                (true, Decided::Positive) => CONST_BASE,
+                (true, Decided::Negative) => CONST_BASE + 1,
+                _ => match pick {
+                    Pick::False => CONST_BASE + 2,
+                    Pick::True => CONST_BASE,
+                    Pick::Both => match node {
+                        Node::Check(_, v) => v.0,
+                        _ => KEEP,
+                    },
+                    _ => picked(node, pick).map_or(KEEP, |c| c.0),
+                },
+            };
+            if r == KEEP {
+                // Children used for their sign alone stay in sign context.
+                let exact = if sign_only { 0 } else { EXACT };
+                match *node {
+                    Node::Const(_) | Node::X(_) | Node::Param(_) | Node::Error(_) => {}
+                    Node::Unary(op, a) => {
+                        let e = if op == UnaryOp::Neg { exact } else { EXACT };
+                        flags[a.index()] |= LIVE | e;
+                    }
+                    Node::Binary(op, a, b) => {
+                        let e = match op {
+                            BinaryOp::Min
+                            | BinaryOp::Max
+                            | BinaryOp::RUnion
+                            | BinaryOp::RInter
+                            | BinaryOp::RDiff => exact,
+                            _ => EXACT,
+                        };
+                        flags[a.index()] |= LIVE | e;
+                        flags[b.index()] |= LIVE | e;
+                    }
+                    _ => {
+                        for (pos, ch) in node.children().enumerate() {
+                            let e = if is_sign_use(node, pos) { exact } else { EXACT };
+                            flags[ch.index()] |= LIVE | e;
+                        }
                     }
                 }
+            } else if r < CONST_BASE {
+                flags[r as usize] |= LIVE | if sign_only { 0 } else { EXACT };
             }
+            rewrite[i] = r;
         }
-        rewrite[i] = r;
-    }
-    let mut nodes = Vec::with_capacity(n);
-    let mut map = vec![NodeId(u32::MAX); n];
-    let mut consts: FastMap<u64, NodeId> = FastMap::default();
-    let mut push = |nodes: &mut Vec<Node>, node: Node| {
-        if let Node::Const(bits) = node {
-            if let Some(&id) = consts.get(&bits) {
-                return id;
+        let mut nodes = Vec::with_capacity(n);
+        let map = &mut self.map[..n];
+        // The ids of the constants `CONSTS` in the new tape, once pushed.
+        let mut consts = [u32::MAX; 3];
+        let const_slot = |bits: u64| CONSTS.iter().position(|c| c.to_bits() == bits);
+        for i in 0..n {
+            if flags[i] & LIVE == 0 {
+                continue;
             }
-            consts.insert(bits, NodeId(nodes.len() as u32));
+            let r = rewrite[i];
+            let node = if r == KEEP {
+                let node = &tape.nodes[i];
+                match *node {
+                    Node::Const(bits) => match const_slot(bits) {
+                        Some(k) if consts[k] != u32::MAX => {
+                            map[i] = consts[k];
+                            continue;
+                        }
+                        Some(k) => {
+                            consts[k] = nodes.len() as u32;
+                            *node
+                        }
+                        None => *node,
+                    },
+                    Node::Unary(op, a) => Node::Unary(op, NodeId(map[a.index()])),
+                    Node::Binary(op, a, b) => {
+                        Node::Binary(op, NodeId(map[a.index()]), NodeId(map[b.index()]))
+                    }
+                    _ => node.map_children(|c| NodeId(map[c.index()])),
+                }
+            } else if r >= CONST_BASE {
+                let k = (r - CONST_BASE) as usize;
+                if consts[k] != u32::MAX {
+                    map[i] = consts[k];
+                    continue;
+                }
+                consts[k] = nodes.len() as u32;
+                Node::constant(CONSTS[k])
+            } else {
+                map[i] = map[r as usize];
+                continue;
+            };
+            map[i] = nodes.len() as u32;
+            nodes.push(node);
         }
-        nodes.push(node);
-        NodeId(nodes.len() as u32 - 1)
-    };
-    for i in 0..n {
-        if !live[i] {
-            continue;
-        }
-        map[i] = match rewrite[i] {
-            Rewrite::Alias(c) => map[c.index()],
-            Rewrite::Const(v) => push(&mut nodes, Node::constant(v)),
-            Rewrite::Keep => {
-                let node = tape.nodes[i].map_children(|c| map[c.index()]);
-                push(&mut nodes, node)
-            }
+        let outputs: Vec<NodeId> = tape
+            .outputs
+            .iter()
+            .map(|o| NodeId(map[o.index()]))
+            .collect();
+        // Every node pushed is reachable from an output (a live node is used
+        // by a live parent, or is what one aliases to), in order: the tape as
+        // it stands, no compaction needed.
+        let out = Tape { nodes, outputs };
+        debug_assert_eq!(out, Tape::from_nodes(&out.nodes, &out.outputs));
+        let stats = SimplifyStats {
+            before: n,
+            after: out.len(),
         };
+        (out, stats)
     }
-    let outputs: Vec<NodeId> = tape.outputs.iter().map(|o| map[o.index()]).collect();
-    // Every node pushed is reachable from an output (a live node is used by
-    // a live parent, or is what one aliases to), in order: the tape as it
-    // stands, no compaction needed.
-    let out = Tape { nodes, outputs };
-    debug_assert_eq!(out, Tape::from_nodes(&out.nodes, &out.outputs));
-    let stats = SimplifyStats {
-        before: n,
-        after: out.len(),
-    };
-    (out, stats)
 }
 
 #[cfg(test)]
@@ -355,7 +443,56 @@ mod tests {
         assert_eq!(stats.after, t.len());
         // Compact as built: every node reachable, in order.
         assert_eq!(t, Tape::from_nodes(&t.nodes, &t.outputs));
+        assert_unique_constants(&t);
         t
+    }
+
+    /// Each constant once (a tape from a graph holds each once, and so must
+    /// its simplified tapes).
+    fn assert_unique_constants(t: &Tape) {
+        let mut bits: Vec<u64> = t
+            .nodes
+            .iter()
+            .filter_map(|n| match n {
+                Node::Const(b) => Some(*b),
+                _ => None,
+            })
+            .collect();
+        let n = bits.len();
+        bits.sort_unstable();
+        bits.dedup();
+        assert_eq!(bits.len(), n, "a constant twice in {t:?}");
+    }
+
+    #[test]
+    fn constants_brought_in_are_the_tapes_own() {
+        // `select(x > 0, x + 3, y - 1)` over x in [-1, 1]: the branch
+        // `x + 3` is positive throughout and becomes the constant 1, which
+        // the tape already holds (for `y - 1`), before and after it.
+        for one_first in [true, false] {
+            let mut g = Graph::new();
+            let one = one_first.then(|| g.constant(1.0));
+            let (x, y) = (g.x(0), g.x(1));
+            let (zero, three) = (g.constant(0.0), g.constant(3.0));
+            let c = g.binary(BinaryOp::Gt, x, zero);
+            let t = g.binary(BinaryOp::Add, x, three);
+            let one = one.unwrap_or_else(|| g.constant(1.0));
+            let e = g.binary(BinaryOp::Sub, y, one);
+            let out = g.select(c, t, e);
+            let tape = g.tape(&[out]);
+            let simp = simplified(
+                &tape,
+                [-1.0, -1.0, -1.0],
+                [1.0, 1.0, 1.0],
+                &Inputs::default(),
+                SimplifyMode::Sign,
+            );
+            assert!(simp.len() < tape.len(), "{simp:?}");
+            assert!(simp.nodes.contains(&Node::constant(1.0)));
+            for p in [[0.5, 0.2, 0.0], [-0.5, 0.2, 0.0], [-0.5, 3.0, 0.0]] {
+                assert_same_sign(&tape, &simp, p, &Inputs::default());
+            }
+        }
     }
 
     /// -2 for NaN, else the sign.

@@ -130,7 +130,7 @@ use frep_core::eval::grad::Grad;
 use frep_core::eval::interval::{Choice, Interval, IntervalEval};
 use frep_core::eval::Inputs;
 use frep_core::hash::{FastHasher, FastMap};
-use frep_core::simplify::{simplify_with_stats, ChoiceMask, SimplifyMode};
+use frep_core::simplify::{ChoiceMask, Simplifier, SimplifyMode};
 use frep_core::{Model, Tape};
 
 use crate::camera::{dot, sub, Aabb, Camera, Projection, RayMaker};
@@ -582,6 +582,7 @@ struct Scratch {
     /// The key of the box being shortened, then its choices (see
     /// [`TileCtx::shorten`]).
     choices: Vec<Choice>,
+    simplifier: Simplifier,
     attr: Option<BatchEval>,
     /// The attribute tape's interval evaluator, for colours constant over
     /// a tile's hits ([`TileCtx::colors`]).
@@ -715,6 +716,7 @@ impl Scratch {
             by_tape: FastMap::default(),
             bytes: tape.len() * NODE_BYTES,
             choices: Vec::new(),
+            simplifier: Simplifier::default(),
             attr: None,
             attr_iv: None,
             rays: Vec::new(),
@@ -1675,7 +1677,9 @@ impl<'a> TileCtx<'a> {
         }
         let key: Box<[Choice]> = choices[..].into();
         ev.mask.expand(&key, &mut choices);
-        let (t, st) = simplify_with_stats(&ev.tape, &choices, SimplifyMode::Sign);
+        let (t, st) = sc
+            .simplifier
+            .simplify(&ev.tape, &choices, SimplifyMode::Sign);
         sc.choices = choices;
         let child = if st.after < st.before {
             let th = tape_hash(&t);

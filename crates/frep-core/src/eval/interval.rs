@@ -1426,8 +1426,8 @@ impl IntervalEval {
         let mut regs = Regs {
             r: vec![Interval::EMPTY; n],
         };
-        let mut code = Vec::new();
-        let mut leaves = Vec::new();
+        let mut code = Vec::with_capacity(n);
+        let mut leaves = Vec::with_capacity(4);
         let mut blends = Vec::new();
         let ix = |id: NodeId| id.index() as u32;
         // `sin a` and `cos a` of one argument: both computed at the first.
@@ -1593,6 +1593,16 @@ impl IntervalEval {
         choice_of(&self.tape.nodes, |k| self.regs.get(k as u32), i)
     }
 
+    /// Node `i`'s [`Choice::decided`] from the last evaluation: all of its
+    /// [`choice`](IntervalEval::choice) for a node that cannot choose (an
+    /// arithmetic operation: its picks are [`Pick::Both`]).
+    ///
+    /// # Panics
+    /// If `i` is not a node of the tape.
+    pub fn decided(&self, i: usize) -> Decided {
+        decided_of(self.regs.get(i as u32))
+    }
+
     fn spare(&self) -> std::sync::MutexGuard<'_, (Vec<Interval>, Vec<Choice>)> {
         self.spare.lock().unwrap_or_else(PoisonError::into_inner)
     }
@@ -1734,15 +1744,7 @@ fn choice_of(nodes: &[Node], v: impl Fn(usize) -> Interval, i: usize) -> Choice 
     if sign == Pick::Both {
         sign = exact;
     }
-    // Only moderate values may become ±1: a huge or infinite one
-    // overflows the squares of an R-function parent.
-    let decided = if r.is_positive() && r.tame() {
-        Decided::Positive
-    } else if r.is_negative() && r.tame() {
-        Decided::Negative
-    } else {
-        Decided::No
-    };
+    let decided = decided_of(r);
     if is_bool_node(node) && !r.nan && r.lo == r.hi {
         exact = if r.lo == 0.0 { Pick::False } else { Pick::True };
         sign = exact;
@@ -1751,6 +1753,20 @@ fn choice_of(nodes: &[Node], v: impl Fn(usize) -> Interval, i: usize) -> Choice 
         exact,
         sign,
         decided,
+    }
+}
+
+/// The [`Choice::decided`] of a node of interval `r`.
+#[inline]
+fn decided_of(r: Interval) -> Decided {
+    // Only moderate values may become ±1: a huge or infinite one
+    // overflows the squares of an R-function parent.
+    if r.is_positive() && r.tame() {
+        Decided::Positive
+    } else if r.is_negative() && r.tame() {
+        Decided::Negative
+    } else {
+        Decided::No
     }
 }
 
