@@ -1931,6 +1931,11 @@ mod tests {
                 };
                 prop_assert_eq!(bits(ev.intervals()), bits(fresh.intervals()), "box {}", k);
                 prop_assert_eq!(ev.choices(), fresh.choices(), "box {}", k);
+                // Node by node, as the whole list gives them.
+                for (i, c) in fresh.choices().iter().enumerate() {
+                    prop_assert_eq!(ev.choice(i), *c, "node {} of box {}", i, k);
+                    prop_assert_eq!(ev.decided(i), c.decided, "node {} of box {}", i, k);
+                }
             }
         }
 
