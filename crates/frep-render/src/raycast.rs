@@ -582,6 +582,8 @@ struct Scratch {
     /// The key of the box being shortened, then its choices (see
     /// [`TileCtx::shorten`]).
     choices: Vec<Choice>,
+    /// [`TileCtx::shorten`]'s buffers for simplifying (as long as the root
+    /// tape at most).
     simplifier: Simplifier,
     attr: Option<BatchEval>,
     /// The attribute tape's interval evaluator, for colours constant over
