@@ -1376,7 +1376,7 @@ const SETUP_LANES: usize = 8;
 
 /// Sizes `sc.rays`, `sc.z0s` and `sc.z1s` for the tile and fills them with
 /// its rays (`rm`, of `cam`), row by row: each ray's [`per_dir`] terms and
-/// its depth range inside `bounds` ([`Ray::clip_inv`]), for
+/// its depth range inside `bounds` ([`Ray::clip_inv`](crate::camera::Ray::clip_inv)), for
 /// [`SETUP_LANES`] rays at a time in passes over arrays, which the compiler
 /// turns into vector code. The same bits as one ray at a time. Returns the
 /// [`per_dir`] terms all rays share (those of the camera's axis) in an
@@ -3299,7 +3299,7 @@ fn len2(g: &Grad) -> f64 {
     g.dx * g.dx + g.dy * g.dy + g.dz * g.dz
 }
 
-/// Squared lengths whose vector [`unit`] scales by `1 / √l²`: normal finite
+/// Squared lengths whose vector [`unit()`] scales by `1 / √l²`: normal finite
 /// numbers (no component overflows or underflows in the sum).
 const NORMAL_LEN2: std::ops::Range<f64> = f64::MIN_POSITIVE..f64::MAX;
 
