@@ -468,7 +468,8 @@ mod tests {
     fn constants_brought_in_are_the_tapes_own() {
         // `select(x > 0, x + 3, y - 1)` over x in [-1, 1]: the branch
         // `x + 3` is positive throughout and becomes the constant 1, which
-        // the tape already holds (for `y - 1`), before and after it.
+        // the tape already holds (for `y - 1`; made first, or after the
+        // branch's nodes).
         for one_first in [true, false] {
             let mut g = Graph::new();
             let one = one_first.then(|| g.constant(1.0));
