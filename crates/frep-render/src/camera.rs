@@ -349,7 +349,7 @@ impl RayMaker {
     /// give; callers ignore them.
     // (The lane passes index several arrays at once.)
     #[allow(clippy::needless_range_loop)]
-    #[inline]
+    #[inline(always)]
     pub fn row_lanes<const L: usize>(
         &self,
         x0: u32,

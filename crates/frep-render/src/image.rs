@@ -464,6 +464,11 @@ impl Shader {
         [rgba[0], rgba[1], rgba[2]]
     }
 
+    /// The default material's linear albedo.
+    pub(crate) fn base(&self) -> [f32; 3] {
+        self.base
+    }
+
     /// The background colour of row `y` (the vertical gradient).
     pub(crate) fn background(&self, y: u32) -> [u8; 3] {
         let lighting = &self.lighting;
@@ -505,16 +510,19 @@ impl Shader {
     /// [`Shader::span`] for at most [`SPAN`] pixels.
     fn chunk(&self, bg: [u8; 3], hits: &[Option<Hit>], ao: Option<&[f32]>, rgba: &mut [u8]) {
         let lighting = &self.lighting;
-        let cam = &self.camera;
         let m = hits.len();
         debug_assert!(m <= SPAN);
         // Gather: per pixel, the hit's normal (raw), position, albedo and
         // occlusion, structure of arrays. Misses get harmless values (they
         // are not written).
-        let mut n = [[0.0f64; SPAN]; 3];
-        let mut p = [[0.0f64; SPAN]; 3];
-        let mut albedo = [[0.0f32; SPAN]; 3];
-        let mut aof = [1.0f32; SPAN];
+        let mut lanes = ShadeLanes {
+            n: [[0.0f64; SPAN]; 3],
+            p: [[0.0f64; SPAN]; 3],
+            albedo: [[0.0f32; SPAN]; 3],
+            aof: [1.0f32; SPAN],
+        };
+        let ShadeLanes { n, p, albedo, aof } = &mut lanes;
+        let mut hit = [false; SPAN];
         let mut any = false;
         // Positions only matter to perspective views.
         let persp = self.ortho.is_none();
@@ -522,6 +530,7 @@ impl Shader {
         for (j, h) in hits.iter().enumerate() {
             let Some(h) = h else { continue };
             any = true;
+            hit[j] = true;
             for (n, v) in n.iter_mut().zip(h.normal) {
                 n[j] = v;
             }
@@ -553,6 +562,23 @@ impl Shader {
             }
             return;
         }
+        self.shade_lanes(bg, &lanes, &hit[..m], rgba);
+    }
+
+    /// Shades up to [`SPAN`] pixels given as arrays: pixel `j` (`hit[j]`;
+    /// else the background `bg`) with `lanes`' values at `j` gives the RGB
+    /// bytes `rgba[4j..4j + 3]`. What [`Shader::span`] does once it has
+    /// gathered its hits.
+    pub(crate) fn shade_lanes(
+        &self,
+        bg: [u8; 3],
+        lanes: &ShadeLanes,
+        hit: &[bool],
+        rgba: &mut [u8],
+    ) {
+        let lighting = &self.lighting;
+        let cam = &self.camera;
+        let ShadeLanes { n, p, albedo, aof } = lanes;
         let (key, fill, rim) = (self.key, self.fill, self.rim);
         let back = scale(cam.forward, -1.0);
         // The direction back along each pixel's ray and the key light's
@@ -644,8 +670,8 @@ impl Shader {
                 }
             }
         }
-        for (j, (h, px)) in hits.iter().zip(rgba.chunks_exact_mut(4)).enumerate() {
-            if h.is_none() {
+        for (j, (&h, px)) in hit.iter().zip(rgba.chunks_exact_mut(4)).enumerate() {
+            if !h {
                 px[..3].copy_from_slice(&bg);
             } else {
                 px[..3].copy_from_slice(&[bytes[0][j], bytes[1][j], bytes[2][j]]);
@@ -656,6 +682,30 @@ impl Shader {
 
 /// Pixels per pass of [`Shader::span`].
 pub const SPAN: usize = 32;
+
+/// What [`Shader::shade_lanes`] shades, per pixel of a pass: the hit's
+/// normal (any length), its position (read in perspective views only), its
+/// linear albedo, and its ambient-occlusion factor (1: open).
+#[derive(Clone, Debug)]
+pub(crate) struct ShadeLanes {
+    pub n: [[f64; SPAN]; 3],
+    pub p: [[f64; SPAN]; 3],
+    pub albedo: [[f32; SPAN]; 3],
+    pub aof: [f32; SPAN],
+}
+
+impl ShadeLanes {
+    /// Lanes of the default material, fully open, ready for normals and
+    /// positions.
+    pub(crate) fn plain(base: [f32; 3]) -> ShadeLanes {
+        ShadeLanes {
+            n: [[0.0; SPAN]; 3],
+            p: [[0.0; SPAN]; 3],
+            albedo: base.map(|b| [b; SPAN]),
+            aof: [1.0; SPAN],
+        }
+    }
+}
 
 /// `normalize` with its test written branch-free (so loops over pixels
 /// vectorise); the same values.

@@ -134,8 +134,11 @@ use frep_core::simplify::{ChoiceMask, Simplifier, SimplifyMode};
 use frep_core::{Model, Tape};
 
 use crate::camera::{dot, sub, Aabb, Camera, Projection, RayMaker};
-use crate::image::{Hit, HitBuffer, Image, Lighting, Shader};
+use crate::image::{Hit, HitBuffer, Image, Lighting, ShadeLanes, Shader, SPAN};
 use crate::tiles::{cast_tiled, for_each_dynamic, tile_rows, tiles, Tile, TileCaster};
+
+mod csg;
+use csg::{Csg, Lanes, Solved, Work, BLOCK, ENTRY};
 
 /// An interval evaluation costs about this many point evaluations (in a
 /// batch) of the same tape: the weight of a whole-ray check against the
@@ -252,6 +255,16 @@ pub struct ModelCaster {
     /// for bit, for about 30 % fewer instructions on a sphere's top view.
     /// Default on; off for comparisons.
     pub quadric_blocks: bool,
+    /// Whether, for a model with no colours that is a set expression over
+    /// quadrics (R-functions, `min`, `max` and negations over at most 8
+    /// fields of degree at most 2 in the point: spheres, cylinders, planes,
+    /// ...), each tile's rays are first solved in closed form, every leaf's
+    /// crossings found and the expression checked after each
+    /// (`raycast::csg`); the rays that fail a check are cast the usual way.
+    /// Default on; off for comparisons.
+    pub csg: bool,
+    /// The model's set expression, where it is one ([`ModelCaster::csg`]).
+    csg_tree: Option<Csg>,
     /// How the batch evaluators of samples, refinement and normals compute
     /// `sin` and `cos`. Default [`Trig::Fast`] (within about `2e-14` of
     /// the value, not an ulp: a sign test at a sample, a hit refined to a
@@ -280,6 +293,7 @@ impl ModelCaster {
 
     /// A caster of a bare tape (output 0 is the field, positive inside).
     pub fn from_tape(tape: Tape, inputs: Inputs, bounds: Aabb) -> ModelCaster {
+        let csg_tree = Csg::of(&tape, &inputs, &bounds);
         ModelCaster {
             tape,
             attr_tape: None,
@@ -294,6 +308,8 @@ impl ModelCaster {
             lines: true,
             exact: true,
             quadric_blocks: true,
+            csg: true,
+            csg_tree,
             trig: Trig::Fast,
             stats: AtomicStats::default(),
             pool: Mutex::new(Vec::new()),
@@ -386,17 +402,7 @@ impl ModelCaster {
         if self.cancelled() {
             return false;
         }
-        let me = rayon::current_thread_index();
-        let scratch = self.pool.lock().ok().and_then(|mut p| {
-            let j = p
-                .iter()
-                .rposition(|(o, _)| *o == me)
-                .or(p.len().checked_sub(1))?;
-            Some(p.swap_remove(j).1)
-        });
-        let mut scratch = scratch.unwrap_or_else(|| Scratch::new(&self.tape));
-        scratch.trim();
-        scratch.trig = self.trig;
+        let mut scratch = self.take_scratch();
         // The rays of this image size, for the check and the tile's rays.
         let rm = camera.rays(tile.width, tile.height);
         let empty = self.tile_outside(camera, &rm, tile, &mut scratch);
@@ -413,9 +419,37 @@ impl ModelCaster {
         };
         // The tile's own check.
         stats.interval_evals += 1;
+        self.put_scratch(scratch);
+        self.add_stats(&stats);
+        any_hit
+    }
+
+    /// A [`Scratch`] from the pool (the one this thread last used where it
+    /// is free), or a new one.
+    fn take_scratch(&self) -> Scratch {
+        let me = rayon::current_thread_index();
+        let scratch = self.pool.lock().ok().and_then(|mut p| {
+            let j = p
+                .iter()
+                .rposition(|(o, _)| *o == me)
+                .or(p.len().checked_sub(1))?;
+            Some(p.swap_remove(j).1)
+        });
+        let mut scratch = scratch.unwrap_or_else(|| Scratch::new(&self.tape));
+        scratch.trim();
+        scratch.trig = self.trig;
+        scratch
+    }
+
+    /// Returns `scratch` to the pool.
+    fn put_scratch(&self, scratch: Scratch) {
         if let Ok(mut p) = self.pool.lock() {
-            p.push((me, scratch));
+            p.push((rayon::current_thread_index(), scratch));
         }
+    }
+
+    /// Adds a tile's counts to the caster's.
+    fn add_stats(&self, stats: &CastStats) {
         let s = &self.stats;
         s.interval_evals
             .fetch_add(stats.interval_evals, Ordering::Relaxed);
@@ -428,7 +462,198 @@ impl ModelCaster {
         s.line_points
             .fetch_add(stats.line_points, Ordering::Relaxed);
         s.exact_rays.fetch_add(stats.exact_rays, Ordering::Relaxed);
-        any_hit
+    }
+
+    /// Casts and shades `tile` in closed form on the model's set expression
+    /// ([`ModelCaster::csg`]) straight into its `rows` of RGBA bytes (no hit
+    /// records), [`BLOCK`] rays at a time: for [`render_with`] where no
+    /// colours and no ambient occlusion are due. Returns `false`, leaving
+    /// the tile to the general caster (its rows then partly written), where
+    /// a ray fails a check of [`Csg::solve`], is inside the solid at the
+    /// eye, or the render was cancelled.
+    fn closed_form_tile(
+        &self,
+        csg: &Csg,
+        camera: &Camera,
+        shader: &Shader,
+        tile: &Tile,
+        rows: &mut [&mut [u8]],
+    ) -> bool {
+        if self.cancelled() {
+            return false;
+        }
+        let mut sc = self.take_scratch();
+        let mut stats = CastStats {
+            interval_evals: 1,
+            ..CastStats::default()
+        };
+        let done = self.closed_form_rows(csg, camera, shader, tile, rows, &mut sc, &mut stats);
+        self.put_scratch(sc);
+        self.add_stats(&stats);
+        done
+    }
+
+    /// [`ModelCaster::closed_form_tile`] with a scratch.
+    #[allow(clippy::too_many_arguments)]
+    fn closed_form_rows(
+        &self,
+        csg: &Csg,
+        camera: &Camera,
+        shader: &Shader,
+        tile: &Tile,
+        rows: &mut [&mut [u8]],
+        sc: &mut Scratch,
+        stats: &mut CastStats,
+    ) -> bool {
+        const L: usize = SETUP_LANES;
+        let rm = camera.rays(tile.width, tile.height);
+        for row in rows.iter_mut() {
+            row.fill(255);
+        }
+        if self.tile_outside(camera, &rm, tile, sc) {
+            stats.empty_tiles += 1;
+            for (row, y) in rows.iter_mut().zip(tile.y0..) {
+                let bg = shader.background(y);
+                for px in row.chunks_exact_mut(4) {
+                    px[..3].copy_from_slice(&bg);
+                }
+            }
+            return true;
+        }
+        let forward = camera.forward;
+        let fixed = matches!(camera.projection, Projection::Orthographic { .. })
+            .then(|| per_dir(forward, forward));
+        let mut cf = sc.closed_form.take().unwrap_or_default();
+        let (lanes, work, solved) = &mut *cf;
+        let mut shade = ShadeLanes::plain(shader.base());
+        // The block's runs of pixels: (row, first column, first lane,
+        // length).
+        let mut runs = [(0u32, 0u32, 0usize, 0usize); BLOCK];
+        let (mut nruns, mut n) = (0, 0);
+        let mut ok = true;
+        'rows: for py in tile.y0..tile.y1 {
+            let mut x = tile.x0;
+            while x < tile.x1 {
+                let len = ((tile.x1 - x) as usize).min(BLOCK);
+                if n + len > BLOCK {
+                    ok = self.closed_form_block(
+                        csg,
+                        tile,
+                        shader,
+                        rows,
+                        (lanes, work, solved),
+                        &runs[..nruns],
+                        n,
+                        &mut shade,
+                        stats,
+                    );
+                    if !ok {
+                        break 'rows;
+                    }
+                    (nruns, n) = (0, 0);
+                }
+                let mut j = 0;
+                while j < len {
+                    let r = ray_lanes(&self.bounds, forward, fixed, &rm, x + j as u32, py);
+                    for q in 0..L.min(len - j) {
+                        let k = n + j + q;
+                        for a in 0..3 {
+                            lanes.o[a][k] = r.o[a][q];
+                            lanes.d[a][k] = r.dz[a][q];
+                        }
+                        let live = r.t0[q] <= r.t1[q];
+                        (lanes.z0[k], lanes.z1[k]) = if live {
+                            (r.t0[q] * r.c[q], r.t1[q] * r.c[q])
+                        } else {
+                            (f64::INFINITY, f64::NEG_INFINITY)
+                        };
+                    }
+                    j += L;
+                }
+                runs[nruns] = (py, x, n, len);
+                nruns += 1;
+                n += len;
+                x += len as u32;
+            }
+        }
+        if ok && n > 0 {
+            ok = self.closed_form_block(
+                csg,
+                tile,
+                shader,
+                rows,
+                (lanes, work, solved),
+                &runs[..nruns],
+                n,
+                &mut shade,
+                stats,
+            );
+        }
+        sc.closed_form = Some(cf);
+        ok
+    }
+
+    /// Solves the `n` rays of a block of [`ModelCaster::closed_form_rows`]
+    /// and shades its `runs` of pixels; `false` where a ray is unsure.
+    #[allow(clippy::too_many_arguments, clippy::needless_range_loop)]
+    fn closed_form_block(
+        &self,
+        csg: &Csg,
+        tile: &Tile,
+        shader: &Shader,
+        rows: &mut [&mut [u8]],
+        (lanes, work, solved): (&mut Lanes, &mut Work, &mut Solved),
+        runs: &[(u32, u32, usize, usize)],
+        n: usize,
+        shade: &mut ShadeLanes,
+        stats: &mut CastStats,
+    ) -> bool {
+        csg.solve(lanes, n, work, solved);
+        let mut live = 0u64;
+        for k in 0..n {
+            live |= u64::from(lanes.z0[k] <= lanes.z1[k]) << k;
+        }
+        if live & !solved.sure != 0 {
+            return false;
+        }
+        stats.exact_rays += u64::from(live.count_ones());
+        let mut hit = [false; SPAN];
+        for &(py, x, first, len) in runs {
+            let row = &mut rows[(py - tile.y0) as usize];
+            let bg = shader.background(py);
+            let mut c = 0;
+            while c < len {
+                let m = (len - c).min(SPAN);
+                for j in 0..m {
+                    let k = first + c + j;
+                    let z = solved.z[k];
+                    hit[j] = z < f64::INFINITY;
+                    let p = [
+                        lanes.o[0][k] + lanes.d[0][k] * z,
+                        lanes.o[1][k] + lanes.d[1][k] * z,
+                        lanes.o[2][k] + lanes.d[2][k] * z,
+                    ];
+                    let nrm = if solved.leaf[k] != ENTRY {
+                        [solved.n[0][k], solved.n[1][k], solved.n[2][k]]
+                    } else if hit[j] {
+                        match (z > 0.0).then(|| entry_face(&self.bounds, &p)).flatten() {
+                            Some(f) => f,
+                            None => return false,
+                        }
+                    } else {
+                        [0.0; 3]
+                    };
+                    for a in 0..3 {
+                        shade.n[a][j] = nrm[a];
+                        shade.p[a][j] = p[a];
+                    }
+                }
+                let o = 4 * (x - tile.x0) as usize + 4 * c;
+                shader.shade_lanes(bg, shade, &hit[..m], &mut row[o..o + 4 * m]);
+                c += m;
+            }
+        }
+        true
     }
 }
 
@@ -515,6 +740,18 @@ impl Quadric {
         })
     }
 
+    /// `q(p)`, and the sum of its terms' sizes there (for a rounding
+    /// allowance).
+    fn value_and_scale(&self, p: [f64; 3]) -> (f64, f64) {
+        let u = sub(p, self.p0);
+        let a = &self.a;
+        let (lin, quad) = (
+            dot(self.g, u),
+            dot(u, [dot(a[0], u), dot(a[1], u), dot(a[2], u)]),
+        );
+        (self.c + lin + quad, self.c.abs() + lin.abs() + quad.abs())
+    }
+
     /// `∇q` at `p`.
     #[inline]
     fn grad(&self, p: [f64; 3]) -> [f64; 3] {
@@ -571,6 +808,8 @@ type ChildEntry = (u32, Box<[Choice]>, u32);
 struct Scratch {
     /// `evals[0]` is the root tape's.
     evals: Vec<Evals>,
+    /// The arrays of [`TileCtx::closed_form`], once used.
+    closed_form: Option<Box<(Lanes, Work, Solved)>>,
     /// Hash of (parent, choices) → (parent, choices, child): the child is
     /// the parent itself where simplifying does not shorten the tape.
     children: FastMap<u64, Vec<ChildEntry>>,
@@ -714,6 +953,7 @@ impl Scratch {
     fn new(tape: &Tape) -> Scratch {
         Scratch {
             evals: vec![Evals::new(tape.clone())],
+            closed_form: None,
             children: FastMap::default(),
             by_tape: FastMap::default(),
             bytes: tape.len() * NODE_BYTES,
@@ -1371,6 +1611,24 @@ fn per_dir(d: [f64; 3], forward: [f64; 3]) -> (f64, [f64; 3], [f64; 3]) {
     (c, [d[0] / c, d[1] / c, d[2] / c], d.map(|v| 1.0 / v))
 }
 
+/// The outward normal of the face of box `b` that `p` lies on, if it does
+/// (a hit where the solid is cut open by the box).
+fn entry_face(b: &Aabb, p: &[f64; 3]) -> Option<[f64; 3]> {
+    let mut best = (f64::INFINITY, [0.0; 3]);
+    for k in 0..3 {
+        let size = (b.max[k] - b.min[k]).abs().max(1e-300);
+        for (face, sign) in [(b.min[k], -1.0), (b.max[k], 1.0)] {
+            let d = (p[k] - face).abs() / size;
+            if d < best.0 {
+                let mut n = [0.0; 3];
+                n[k] = sign;
+                best = (d, n);
+            }
+        }
+    }
+    (best.0 < 1e-6).then_some(best.1)
+}
+
 /// How many rays of a row [`set_up_rays`] computes in one pass.
 const SETUP_LANES: usize = 8;
 
@@ -1404,49 +1662,14 @@ fn set_up_rays(
         let mut x = tile.x0;
         while x < tile.x1 {
             let n = ((tile.x1 - x) as usize).min(L);
-            let mut o = [[0.0f64; L]; 3];
-            let mut d = [[0.0f64; L]; 3];
-            rm.row_lanes(x, py, &mut o, &mut d);
-            let mut c = [0.0f64; L];
-            let mut dz = [[0.0f64; L]; 3];
-            let mut inv = [[0.0f64; L]; 3];
-            match fixed {
-                Some((fc, fdz, finv)) => {
-                    c = [fc; L];
-                    for a in 0..3 {
-                        dz[a] = [fdz[a]; L];
-                        inv[a] = [finv[a]; L];
-                    }
-                }
-                None => {
-                    // `per_dir` written out: called per lane it gives the
-                    // same bits, but the pass no longer vectorises (+5 M
-                    // instructions on a 512² turntable, measured).
-                    for j in 0..L {
-                        let cj =
-                            (d[0][j] * forward[0] + d[1][j] * forward[1] + d[2][j] * forward[2])
-                                .max(1e-12);
-                        c[j] = cj;
-                        for a in 0..3 {
-                            dz[a][j] = d[a][j] / cj;
-                            inv[a][j] = 1.0 / d[a][j];
-                        }
-                    }
-                }
-            }
-            // `Ray::clip_inv`, with selects.
-            let mut t0 = [0.0f64; L];
-            let mut t1 = [f64::INFINITY; L];
-            for a in 0..3 {
-                for j in 0..L {
-                    let p = (bounds.min[a] - o[a][j]) * inv[a][j];
-                    let q = (bounds.max[a] - o[a][j]) * inv[a][j];
-                    let swap = p > q;
-                    let (lo, hi) = (if swap { q } else { p }, if swap { p } else { q });
-                    t0[j] = if lo > t0[j] { lo } else { t0[j] };
-                    t1[j] = if hi < t1[j] { hi } else { t1[j] };
-                }
-            }
+            let RayLanes {
+                o,
+                d,
+                dz,
+                c,
+                t0,
+                t1,
+            } = ray_lanes(bounds, forward, fixed, &rm, x, py);
             for j in 0..n {
                 let live = t0[j] <= t1[j];
                 let (z0, z1) = if live {
@@ -1475,6 +1698,84 @@ fn set_up_rays(
     }
     debug_assert_eq!(k, n, "every ray of the tile set up");
     fixed
+}
+
+/// [`SETUP_LANES`] rays of a row ([`ray_lanes`]): origins, directions, the
+/// [`per_dir`] terms, and the parameters `t0 ≤ t1` of the ray's part in
+/// the model box (`t0 > t1`: it misses the box).
+struct RayLanes {
+    o: [[f64; SETUP_LANES]; 3],
+    d: [[f64; SETUP_LANES]; 3],
+    dz: [[f64; SETUP_LANES]; 3],
+    c: [f64; SETUP_LANES],
+    t0: [f64; SETUP_LANES],
+    t1: [f64; SETUP_LANES],
+}
+
+/// The rays of pixels `x..x + SETUP_LANES` of row `py` (`rm`, of a camera
+/// looking along `forward`; `fixed`: the [`per_dir`] terms all rays share,
+/// in an orthographic view) clipped to `bounds`, in passes over arrays
+/// (which vectorise): what [`set_up_rays`] sets up.
+#[inline(always)]
+fn ray_lanes(
+    bounds: &Aabb,
+    forward: [f64; 3],
+    fixed: Option<(f64, [f64; 3], [f64; 3])>,
+    rm: &RayMaker,
+    x: u32,
+    py: u32,
+) -> RayLanes {
+    const L: usize = SETUP_LANES;
+    let mut o = [[0.0f64; L]; 3];
+    let mut d = [[0.0f64; L]; 3];
+    rm.row_lanes(x, py, &mut o, &mut d);
+    let mut c = [0.0f64; L];
+    let mut dz = [[0.0f64; L]; 3];
+    let mut inv = [[0.0f64; L]; 3];
+    match fixed {
+        Some((fc, fdz, finv)) => {
+            c = [fc; L];
+            for a in 0..3 {
+                dz[a] = [fdz[a]; L];
+                inv[a] = [finv[a]; L];
+            }
+        }
+        None => {
+            // `per_dir` written out: called per lane it gives the
+            // same bits, but the pass no longer vectorises (+5 M
+            // instructions on a 512² turntable, measured).
+            for j in 0..L {
+                let cj =
+                    (d[0][j] * forward[0] + d[1][j] * forward[1] + d[2][j] * forward[2]).max(1e-12);
+                c[j] = cj;
+                for a in 0..3 {
+                    dz[a][j] = d[a][j] / cj;
+                    inv[a][j] = 1.0 / d[a][j];
+                }
+            }
+        }
+    }
+    // `Ray::clip_inv`, with selects.
+    let mut t0 = [0.0f64; L];
+    let mut t1 = [f64::INFINITY; L];
+    for a in 0..3 {
+        for j in 0..L {
+            let p = (bounds.min[a] - o[a][j]) * inv[a][j];
+            let q = (bounds.max[a] - o[a][j]) * inv[a][j];
+            let swap = p > q;
+            let (lo, hi) = (if swap { q } else { p }, if swap { p } else { q });
+            t0[j] = if lo > t0[j] { lo } else { t0[j] };
+            t1[j] = if hi < t1[j] { hi } else { t1[j] };
+        }
+    }
+    RayLanes {
+        o,
+        d,
+        dz,
+        c,
+        t0,
+        t1,
+    }
 }
 
 fn clip_box(b: &Aabb, bounds: &Aabb) -> Option<Aabb> {
@@ -1555,6 +1856,11 @@ impl<'a> TileCtx<'a> {
     }
 
     fn run(&mut self) {
+        if let Some(csg) = self.caster.csg_tree.as_ref() {
+            if self.caster.csg && self.caster.attr_tape.is_none() {
+                self.closed_form(csg);
+            }
+        }
         // The depth range of the live rays (a dead ray's is `[+∞, −∞]`).
         let zmin = self.sc.z0s.iter().fold(f64::INFINITY, |m, &z| m.min(z));
         let zmax = self.sc.z1s.iter().fold(f64::NEG_INFINITY, |m, &z| m.max(z));
@@ -1579,6 +1885,76 @@ impl<'a> TileCtx<'a> {
         }
         self.search_tails();
         self.flush_deferred();
+    }
+
+    /// Solves the tile's live rays in closed form on the model's set
+    /// expression ([`ModelCaster::csg`]), [`BLOCK`] at a time: the hits and
+    /// misses that check out are final, the other rays are left as they
+    /// were.
+    fn closed_form(&mut self, csg: &Csg) {
+        let mut cf = self.sc.closed_form.take().unwrap_or_default();
+        let (lanes, work, solved) = &mut *cf;
+        let mut idx = [0usize; BLOCK];
+        let mut n = 0;
+        for i in 0..self.sc.rays.len() {
+            let (z0, z1) = (self.sc.z0s[i], self.sc.z1s[i]);
+            if z0 > z1 {
+                continue;
+            }
+            let r = &self.sc.rays[i];
+            for a in 0..3 {
+                lanes.o[a][n] = r.origin[a];
+                lanes.d[a][n] = r.dz[a];
+            }
+            (lanes.z0[n], lanes.z1[n]) = (z0, z1);
+            idx[n] = i;
+            n += 1;
+            if n == BLOCK {
+                csg.solve(lanes, n, work, solved);
+                self.take_solved(solved, &idx[..n]);
+                n = 0;
+            }
+        }
+        if n > 0 {
+            csg.solve(lanes, n, work, solved);
+            self.take_solved(solved, &idx[..n]);
+        }
+        self.sc.closed_form = Some(cf);
+    }
+
+    /// Records the sure outcomes of [`Csg::solve`] for rays `idx`.
+    fn take_solved(&mut self, s: &Solved, idx: &[usize]) {
+        for (k, &i) in idx.iter().enumerate() {
+            if (s.sure >> k) & 1 == 0 {
+                continue;
+            }
+            let z = s.z[k];
+            if z == f64::INFINITY {
+                self.sc.resolve(i);
+                self.stats.exact_rays += 1;
+                continue;
+            }
+            let r = &self.sc.rays[i];
+            let position = r.at_depth(z);
+            let normal = if s.leaf[k] == ENTRY {
+                // Inside where it enters the box: the box's face, as a
+                // direct hit there gets (none at the eye: left alone).
+                match (z > 0.0).then(|| self.entry_face(&position)).flatten() {
+                    Some(n) => n,
+                    None => continue,
+                }
+            } else {
+                [s.n[0][k], s.n[1][k], s.n[2][k]]
+            };
+            let hit = Hit {
+                t: z / r.c,
+                position,
+                normal,
+                color: None,
+            };
+            self.set_hit(i, hit);
+            self.stats.exact_rays += 1;
+        }
     }
 
     /// Refines and records the deferred crossings and direct hits of the
@@ -2536,23 +2912,9 @@ impl<'a> TileCtx<'a> {
         self.sc.need_normal.clear();
     }
 
-    /// The outward normal of the model box face `p` lies on, if it does and
-    /// the field is inside there (the solid is cut open by the box).
+    /// [`entry_face`] of the model box.
     fn entry_face(&self, p: &[f64; 3]) -> Option<[f64; 3]> {
-        let b = &self.caster.bounds;
-        let mut best = (f64::INFINITY, [0.0; 3]);
-        for k in 0..3 {
-            let size = (b.max[k] - b.min[k]).abs().max(1e-300);
-            for (face, sign) in [(b.min[k], -1.0), (b.max[k], 1.0)] {
-                let d = (p[k] - face).abs() / size;
-                if d < best.0 {
-                    let mut n = [0.0; 3];
-                    n[k] = sign;
-                    best = (d, n);
-                }
-            }
-        }
-        (best.0 < 1e-6).then_some(best.1)
+        entry_face(&self.caster.bounds, p)
     }
 
     /// The normal at `p` where the gradient vanishes or is not finite (a
@@ -3503,10 +3865,21 @@ pub fn render_with(
     // a tile with a hit (the caster writes nothing where no ray hits).
     let rows = tile_rows(&mut img.rgba, w as usize, 4, &ts);
     let work: Vec<_> = ts.into_iter().zip(rows).collect();
+    // Models that are set expressions over quadrics: each tile solved and
+    // shaded in closed form where every ray checks out.
+    let closed_form = caster
+        .csg_tree
+        .as_ref()
+        .filter(|_| caster.csg && caster.attr_tape.is_none() && !settings.ao);
     for_each_dynamic(
         work,
         || (None::<BatchEval>, Vec::<Option<Hit>>::new(), false),
         |(ao_eval, hits, dirty), (t, mut rows)| {
+            if let Some(csg) = closed_form {
+                if caster.closed_form_tile(csg, camera, &shader, &t, &mut rows) {
+                    return;
+                }
+            }
             let n = (t.w() * t.h()) as usize;
             if *dirty || hits.len() != n {
                 hits.clear();

@@ -1,0 +1,650 @@
+//! Rays solved in closed form on models that are set operations over
+//! quadrics ([`Csg`]).
+//!
+//! A model such as `hfSphere(x, c, 1) & x[3]` is a tree of R-functions
+//! (`&`, `|`, `\`, `min`, `max`, negation) over fields that are polynomials
+//! of degree at most 2 in the point: spheres, cylinders, ellipsoids, cones,
+//! planes. Each R-function keeps the sign of the set operation it stands
+//! for (`a & b ≥ 0` exactly where `a ≥ 0` and `b ≥ 0`, up to rounding), so
+//! the solid is that set expression over the leaves' solids, and along a
+//! ray each leaf is a polynomial of degree 2 in the depth with at most two
+//! crossings. A ray's first hit is then the first of those crossings (or
+//! its entry into the model box) after which the expression holds: no
+//! interval evaluation, no samples, no search. The tile's rays are solved
+//! in blocks of [`BLOCK`], every step a loop over the block (which
+//! vectorises) and the set expression evaluated on bit masks of the whole
+//! block at once.
+//!
+//! Every result is checked the way the exact slabs of the general caster
+//! are: each leaf's value at each crossing that counts must be clear of
+//! rounding (`1e-9` of the polynomial's scale over the ray), and no leaf
+//! may graze the ray. A ray that fails a check (two leaves crossing the
+//! ray at one point, as on an edge seen exactly; a tangent ray; values not
+//! finite) is left to the general caster.
+
+use frep_core::eval::batch::{BatchEval, GradRegs};
+use frep_core::eval::grad::Grad;
+use frep_core::eval::Inputs;
+use frep_core::graph::{Node, NodeId};
+use frep_core::ops::{BinaryOp, UnaryOp};
+use frep_core::Tape;
+
+use super::Quadric;
+use crate::camera::Aabb;
+
+/// Rays per block: one bit each in the masks of the set expression.
+pub(super) const BLOCK: usize = 64;
+
+/// The most leaves a [`Csg`] takes: a ray's work grows with their square
+/// (every crossing is checked against every leaf).
+pub(super) const MAX_LEAVES: usize = 8;
+
+/// The most nodes of the set expression (R-functions and negations).
+const MAX_OPS: usize = 64;
+
+/// `leaf` of a [`Solved`] lane whose hit is its entry into the model box.
+pub(super) const ENTRY: u64 = u64::MAX;
+
+/// A model as a set expression over quadrics (see the module docs).
+#[derive(Clone, Debug)]
+pub(super) struct Csg {
+    leaves: Vec<Quadric>,
+    /// The set expression in postfix order.
+    prog: Vec<Step>,
+    /// The crossings that may start the solid along a ray: (leaf, whether
+    /// it is the one into the leaf's solid). A leaf under no negation (an
+    /// even number: R-functions, `min` and `max` are monotone) can only
+    /// start the solid where the ray enters it, one under an odd number
+    /// only where the ray leaves it.
+    cands: Vec<(usize, bool)>,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Step {
+    /// The solid of a leaf: its field `≥ 0`.
+    Leaf(u8),
+    /// The complement of the last value.
+    Not,
+    /// The intersection of the last two values.
+    And,
+    /// The union of the last two values.
+    Or,
+}
+
+/// A block of rays `o + d·z` over depths `[z0, z1]` (a lane with
+/// `z0 > z1` is idle).
+pub(super) struct Lanes {
+    pub o: [[f64; BLOCK]; 3],
+    pub d: [[f64; BLOCK]; 3],
+    pub z0: [f64; BLOCK],
+    pub z1: [f64; BLOCK],
+}
+
+impl Default for Lanes {
+    fn default() -> Lanes {
+        Lanes {
+            o: [[0.0; BLOCK]; 3],
+            d: [[0.0; BLOCK]; 3],
+            z0: [f64::INFINITY; BLOCK],
+            z1: [f64::NEG_INFINITY; BLOCK],
+        }
+    }
+}
+
+/// What [`Csg::solve`] found for a block of rays, per lane.
+pub(super) struct Solved {
+    /// Whether the lane's outcome stands (else the general caster's).
+    pub sure: u64,
+    /// The hit's depth (`+∞`: the ray misses).
+    pub z: [f64; BLOCK],
+    /// The leaf crossed at the hit, or [`ENTRY`].
+    pub leaf: [u64; BLOCK],
+    /// The unit outward normal at a leaf's hit (facing the ray).
+    pub n: [[f64; BLOCK]; 3],
+}
+
+impl Default for Solved {
+    fn default() -> Solved {
+        Solved {
+            sure: 0,
+            z: [f64::INFINITY; BLOCK],
+            leaf: [ENTRY; BLOCK],
+            n: [[0.0; BLOCK]; 3],
+        }
+    }
+}
+
+impl Csg {
+    /// The set expression of output 0 of `tape` with these parameter
+    /// values, where it is one: R-functions, `min`, `max` and negations
+    /// over at most [`MAX_LEAVES`] fields of degree at most 2 in the point,
+    /// each of whose values agrees with its quadric (by `1e-9` of its
+    /// scale) at the corners and the centre of `bounds`. `None` otherwise.
+    pub(super) fn of(tape: &Tape, inputs: &Inputs, bounds: &Aabb) -> Option<Csg> {
+        let out = *tape.outputs.first()?;
+        let mut b = Builder {
+            tape,
+            prog: Vec::new(),
+            leaf_ids: Vec::new(),
+            polarity: Vec::new(),
+        };
+        b.walk(out, 0, false)?;
+        let mut cands = Vec::new();
+        for (j, &(pos, neg)) in b.polarity.iter().enumerate() {
+            if pos {
+                cands.push((j, true));
+            }
+            if neg {
+                cands.push((j, false));
+            }
+        }
+        let leaves = b
+            .leaf_ids
+            .iter()
+            .map(|&id| leaf_quadric(tape, id, inputs, bounds))
+            .collect::<Option<Vec<_>>>()?;
+        Some(Csg {
+            leaves,
+            prog: b.prog,
+            cands,
+        })
+    }
+
+    /// The number of leaves.
+    #[cfg(test)]
+    pub(super) fn leaves(&self) -> usize {
+        self.leaves.len()
+    }
+
+    /// The set expression over the leaves' bit masks `m` (bit `k` of
+    /// `m[j]`: leaf `j` holds lane `k`): the lanes the solid holds.
+    #[inline]
+    fn holds(&self, m: &[u64; MAX_LEAVES]) -> u64 {
+        let mut stack = [0u64; MAX_OPS + 1];
+        let mut top = 0;
+        for s in &self.prog {
+            match *s {
+                Step::Leaf(j) => {
+                    stack[top] = m[j as usize];
+                    top += 1;
+                }
+                Step::Not => stack[top - 1] = !stack[top - 1],
+                Step::And => {
+                    top -= 1;
+                    stack[top - 1] &= stack[top];
+                }
+                Step::Or => {
+                    top -= 1;
+                    stack[top - 1] |= stack[top];
+                }
+            }
+        }
+        stack[0]
+    }
+
+    /// Solves the first `n` lanes of `l` (see the module docs), with `w`
+    /// for its working arrays.
+    // (The lane passes index several arrays at once.)
+    #[allow(clippy::needless_range_loop)]
+    pub(super) fn solve(&self, l: &Lanes, n: usize, w: &mut Work, s: &mut Solved) {
+        const B: usize = BLOCK;
+        let nl = self.leaves.len();
+        // Per leaf, the polynomial along each ray `α z² + β z + γ`, the
+        // rounding allowance, and the crossings (NaN where none).
+        for (q, lr) in self.leaves.iter().zip(w.leaf.iter_mut()) {
+            lr.solve(q, l);
+        }
+        let leaves = &w.leaf[..nl];
+        let mut best = [f64::INFINITY; B];
+        let mut leaf = [ENTRY; B];
+        let mut bad = 0u64;
+        let mut live = 0u64;
+        for k in 0..n {
+            live |= u64::from(l.z0[k] <= l.z1[k]) << k;
+        }
+        // Candidates: the entry (`z0`), then the crossings that may start
+        // the solid. After each, the leaves' signs give whether the solid
+        // holds the ray there.
+        for cand in 0..=self.cands.len() {
+            let (own, enter) = match cand {
+                0 => (None, false),
+                c => {
+                    let (j, enter) = self.cands[c - 1];
+                    (Some(j), enter)
+                }
+            };
+            let at = match own {
+                None => &l.z0,
+                Some(j) if enter => &leaves[j].enter,
+                Some(j) => &leaves[j].leave,
+            };
+            let mut valid = 0u64;
+            for k in 0..B {
+                let z = at[k];
+                let ok = if own.is_none() {
+                    true
+                } else {
+                    z > l.z0[k] && z <= l.z1[k]
+                };
+                valid |= u64::from(ok) << k;
+            }
+            valid &= live;
+            if valid == 0 {
+                continue;
+            }
+            let mut m = [0u64; MAX_LEAVES];
+            let mut unclear = 0u64;
+            for (j, mj) in m.iter_mut().enumerate().take(nl) {
+                let LeafRay { a, b, c, tol, .. } = &leaves[j];
+                let mut bits = 0u64;
+                let mut near = 0u64;
+                if own == Some(j) {
+                    // Just after its own crossing a leaf is inside where
+                    // the ray enters it.
+                    bits = if enter { !0 } else { 0 };
+                } else {
+                    for k in 0..B {
+                        let z = at[k];
+                        let v = (a[k] * z + b[k]) * z + c[k];
+                        bits |= u64::from(v >= 0.0) << k;
+                        // (NaN is unclear too.)
+                        near |= u64::from((v.abs() <= tol[k]) | v.is_nan()) << k;
+                    }
+                }
+                *mj = bits;
+                unclear |= near;
+            }
+            bad |= valid & unclear;
+            let inside = self.holds(&m) & valid;
+            for k in 0..B {
+                let take = ((inside >> k) & 1 != 0) & (at[k] < best[k]);
+                best[k] = if take { at[k] } else { best[k] };
+                leaf[k] = if take {
+                    own.map_or(ENTRY, |j| j as u64)
+                } else {
+                    leaf[k]
+                };
+            }
+        }
+        let mut grazing = 0u64;
+        for lr in leaves {
+            for (k, &g) in lr.graze.iter().enumerate() {
+                grazing |= u64::from(g) << k;
+            }
+        }
+        // The normals: each leaf's gradient at its hits, facing the ray.
+        let mut nrm = [[0.0f64; B]; 3];
+        let mut finite = 0u64;
+        for (j, q) in self.leaves.iter().enumerate() {
+            for k in 0..B {
+                let z = best[k];
+                let p = [
+                    l.o[0][k] + l.d[0][k] * z,
+                    l.o[1][k] + l.d[1][k] * z,
+                    l.o[2][k] + l.d[2][k] * z,
+                ];
+                let g = q.grad(p);
+                let slope = g[0] * l.d[0][k] + g[1] * l.d[1][k] + g[2] * l.d[2][k];
+                let len2 = g[0] * g[0] + g[1] * g[1] + g[2] * g[2];
+                let f = -slope.signum() / len2.sqrt();
+                let mine = leaf[k] == j as u64;
+                for a in 0..3 {
+                    nrm[a][k] = if mine { g[a] * f } else { nrm[a][k] };
+                }
+                let ok = len2 > f64::MIN_POSITIVE && len2 < f64::MAX;
+                finite |= u64::from(mine && ok) << k;
+            }
+        }
+        let entry = {
+            let mut e = 0u64;
+            for (k, &lf) in leaf.iter().enumerate() {
+                e |= u64::from(lf == ENTRY) << k;
+            }
+            e
+        };
+        let hit = {
+            let mut h = 0u64;
+            for (k, &z) in best.iter().enumerate() {
+                h |= u64::from(z < f64::INFINITY) << k;
+            }
+            h
+        };
+        // A leaf's hit needs a normal; an entry hit's comes from the box.
+        let normal_ok = !hit | entry | finite;
+        s.sure = live & !bad & !grazing & normal_ok;
+        s.z = best;
+        s.leaf = leaf;
+        s.n = nrm;
+    }
+}
+
+/// The working arrays of [`Csg::solve`] (kept from block to block: every
+/// lane of the leaves in use is written before it is read).
+#[derive(Default)]
+pub(super) struct Work {
+    leaf: [LeafRay; MAX_LEAVES],
+}
+
+/// One leaf along a block of rays: its polynomial `a z² + b z + c`, the
+/// rounding allowance `tol`, its crossings into its solid (`enter`, where
+/// the slope is positive) and out of it (`leave`) (NaN or infinite where
+/// there is none), and whether it grazes the ray.
+struct LeafRay {
+    a: [f64; BLOCK],
+    b: [f64; BLOCK],
+    c: [f64; BLOCK],
+    tol: [f64; BLOCK],
+    enter: [f64; BLOCK],
+    leave: [f64; BLOCK],
+    graze: [bool; BLOCK],
+}
+
+impl Default for LeafRay {
+    fn default() -> LeafRay {
+        LeafRay {
+            a: [0.0; BLOCK],
+            b: [0.0; BLOCK],
+            c: [0.0; BLOCK],
+            tol: [0.0; BLOCK],
+            enter: [0.0; BLOCK],
+            leave: [0.0; BLOCK],
+            graze: [false; BLOCK],
+        }
+    }
+}
+
+impl LeafRay {
+    /// Quadric `q` along the rays of `l` (every lane; the idle ones give
+    /// harmless values). (Not inlined: its arguments are then known not
+    /// to overlap, and the loop vectorises without run-time checks.)
+    #[inline(never)]
+    fn solve(&mut self, q: &Quadric, l: &Lanes) {
+        // `q(p0 + u) = c + g·u + uᵀAu` with `u = o − p0 + d·z`, its terms
+        // written out (so that the loop vectorises).
+        let [g0, g1, g2] = q.g;
+        let [[a00, a01, a02], [_, a11, a12], [_, _, a22]] = q.a;
+        let (c0, p0) = (q.c, q.p0);
+        for k in 0..BLOCK {
+            let (u0, u1, u2) = (l.o[0][k] - p0[0], l.o[1][k] - p0[1], l.o[2][k] - p0[2]);
+            let (d0, d1, d2) = (l.d[0][k], l.d[1][k], l.d[2][k]);
+            let (z0, z1) = (l.z0[k], l.z1[k]);
+            // `A·d` and `A·u`.
+            let ad0 = a00 * d0 + a01 * d1 + a02 * d2;
+            let ad1 = a01 * d0 + a11 * d1 + a12 * d2;
+            let ad2 = a02 * d0 + a12 * d1 + a22 * d2;
+            let au0 = a00 * u0 + a01 * u1 + a02 * u2;
+            let au1 = a01 * u0 + a11 * u1 + a12 * u2;
+            let au2 = a02 * u0 + a12 * u1 + a22 * u2;
+            let a = d0 * ad0 + d1 * ad1 + d2 * ad2;
+            let b = 2.0 * (u0 * ad0 + u1 * ad1 + u2 * ad2) + (g0 * d0 + g1 * d1 + g2 * d2);
+            let c = c0 + (g0 * u0 + g1 * u1 + g2 * u2) + (u0 * au0 + u1 * au1 + u2 * au2);
+            let zm = z0.abs().max(z1.abs());
+            let t = 1e-9 * (a.abs() * zm * zm + b.abs() * zm + c.abs());
+            let disc = b * b - 4.0 * a * c;
+            // The roots `(−b ± √disc) / 2a`, where the slope `2az + b` is
+            // `±√disc`, in the stable form: `h / a` and `c / h` with
+            // `h = −(b + sign(b)·√disc) / 2`. For `b ≥ 0` the first is the
+            // one out of the solid; `a = 0` (a plane) gives its one root as
+            // `c / h` and ±∞ or NaN for the other.
+            let sq = disc.max(0.0).sqrt();
+            let h = -0.5 * (b + sq.copysign(b));
+            let (r1, r2) = (h / a, c / h);
+            let (enter, leave) = if b >= 0.0 { (r2, r1) } else { (r1, r2) };
+            let real = disc >= 0.0;
+            self.enter[k] = if real { enter } else { f64::NAN };
+            self.leave[k] = if real { leave } else { f64::NAN };
+            // A ray that grazes the leaf: its vertex (where the slope
+            // changes sign) in range with a value (`−disc / 4a`) within
+            // rounding of 0.
+            let (s0, s1) = (2.0 * a * z0 + b, 2.0 * a * z1 + b);
+            self.graze[k] = (a != 0.0) & (s0 * s1 <= 0.0) & (disc.abs() <= 4.0 * a.abs() * t);
+            (self.a[k], self.b[k], self.c[k]) = (a, b, c);
+            self.tol[k] = t;
+        }
+    }
+}
+
+/// Walks the set expression from the output down (see [`Csg::of`]).
+struct Builder<'t> {
+    tape: &'t Tape,
+    prog: Vec<Step>,
+    leaf_ids: Vec<NodeId>,
+    /// Per leaf, whether it occurs under an even number of negations, and
+    /// under an odd number.
+    polarity: Vec<(bool, bool)>,
+}
+
+impl Builder<'_> {
+    /// Appends node `id`'s set expression; `neg`: whether it is under an
+    /// odd number of negations.
+    fn walk(&mut self, id: NodeId, depth: usize, neg: bool) -> Option<()> {
+        if depth > MAX_OPS || self.prog.len() > 2 * MAX_OPS {
+            return None;
+        }
+        let node = self.tape.nodes[id.index()];
+        let op = match node {
+            Node::Binary(BinaryOp::RInter | BinaryOp::Min, a, b) => Some((a, b, Step::And, false)),
+            Node::Binary(BinaryOp::RUnion | BinaryOp::Max, a, b) => Some((a, b, Step::Or, false)),
+            // `a \ b` is `a & −b`.
+            Node::Binary(BinaryOp::RDiff, a, b) => Some((a, b, Step::And, true)),
+            _ => None,
+        };
+        if let Some((a, b, step, not_b)) = op {
+            self.walk(a, depth + 1, neg)?;
+            self.walk(b, depth + 1, neg != not_b)?;
+            if not_b {
+                self.prog.push(Step::Not);
+            }
+            self.prog.push(step);
+            return Some(());
+        }
+        match node {
+            Node::Unary(UnaryOp::Neg, a) => {
+                self.walk(a, depth + 1, !neg)?;
+                self.prog.push(Step::Not);
+            }
+            Node::Check(_, v) => self.walk(v, depth + 1, neg)?,
+            _ => {
+                let j = match self.leaf_ids.iter().position(|&l| l == id) {
+                    Some(j) => j,
+                    None if self.leaf_ids.len() < MAX_LEAVES => {
+                        self.leaf_ids.push(id);
+                        self.polarity.push((false, false));
+                        self.leaf_ids.len() - 1
+                    }
+                    None => return None,
+                };
+                let p = &mut self.polarity[j];
+                if neg {
+                    p.1 = true;
+                } else {
+                    p.0 = true;
+                }
+                self.prog.push(Step::Leaf(j as u8));
+            }
+        }
+        (self.prog.len() <= 2 * MAX_OPS).then_some(())
+    }
+}
+
+/// Node `id` of `tape` as a quadric, where it is a polynomial of degree at
+/// most 2 in the point that agrees with the quadric at the corners and
+/// centre of `bounds` (see [`Csg::of`]).
+fn leaf_quadric(tape: &Tape, id: NodeId, inputs: &Inputs, bounds: &Aabb) -> Option<Quadric> {
+    let sub = Tape::from_nodes(&tape.nodes, &[id]);
+    let degree = sub.polynomial_degree().filter(|&d| d <= 2)?;
+    let p0: [f64; 3] = std::array::from_fn(|k| 0.5 * (bounds.min[k] + bounds.max[k]));
+    let h = 0.25
+        * (0..3)
+            .map(|k| bounds.max[k] - bounds.min[k])
+            .fold(0.0, f64::max);
+    if !(h > 0.0 && h.is_finite()) {
+        return None;
+    }
+    // The value and gradient at `p0` and at `h` from it along each axis,
+    // then the values at the box's corners and `p0` again.
+    let pts: [[f64; 3]; 13] = std::array::from_fn(|j| match j {
+        0..=3 => {
+            let mut p = p0;
+            if j > 0 {
+                p[j - 1] += h;
+            }
+            p
+        }
+        4..=11 => std::array::from_fn(|k| {
+            if (j - 4) >> k & 1 == 0 {
+                bounds.min[k]
+            } else {
+                bounds.max[k]
+            }
+        }),
+        _ => p0,
+    });
+    let mut gs = [Grad::default(); 13];
+    BatchEval::new(&sub).eval_grad(
+        &pts.map(|p| p[0]),
+        &pts.map(|p| p[1]),
+        &pts.map(|p| p[2]),
+        inputs,
+        &mut GradRegs::default(),
+        &mut gs,
+    );
+    let c = gs[0].v;
+    let g = if degree == 0 {
+        [0.0; 3]
+    } else {
+        [gs[0].dx, gs[0].dy, gs[0].dz]
+    };
+    let grad = |j: usize| [gs[j].dx, gs[j].dy, gs[j].dz];
+    let mut a = [[0.0; 3]; 3];
+    if degree == 2 {
+        for (i, row) in a.iter_mut().enumerate() {
+            for (j, v) in row.iter_mut().enumerate() {
+                let dij = grad(j + 1)[i] - g[i];
+                let dji = grad(i + 1)[j] - g[j];
+                *v = (dij + dji) / (4.0 * h);
+            }
+        }
+    }
+    let quad = Quadric { p0, c, g, a };
+    let finite = [c]
+        .iter()
+        .chain(&g)
+        .chain(a.iter().flatten())
+        .all(|v| v.is_finite());
+    if !finite {
+        return None;
+    }
+    // The values at the box's corners and centre, against the quadric's.
+    let agree = (4..13).all(|j| {
+        let v = gs[j].v;
+        let (want, scale) = quad.value_and_scale(pts[j]);
+        v.is_finite() && (v - want).abs() <= 1e-9 * scale.max(v.abs())
+    });
+    agree.then_some(quad)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use frep_core::Model;
+
+    fn csg(body: &str) -> Option<Csg> {
+        let model = Model::compile(&format!("my_model(x[3], a[1]) {{ {body} }}")).unwrap();
+        Csg::of(
+            &model.tape(),
+            &Inputs::default(),
+            &Aabb::new([-1.0; 3], [1.0; 3]),
+        )
+    }
+
+    /// R-functions, `min`, `max`, negations and `\` over fields of degree
+    /// at most 2 are taken, with the crossings that may start the solid:
+    /// into a leaf under no negation, out of one under one. Blends, other
+    /// functions of the point, degrees above 2 and more than
+    /// [`MAX_LEAVES`] leaves are not.
+    #[test]
+    fn takes_set_expressions_over_quadrics() {
+        let semi = csg("array c[3]; c = [0, 0, 0]; my_model = hfSphere(x, c, 1) & x[3];").unwrap();
+        assert_eq!(semi.leaves(), 2);
+        assert_eq!(semi.cands, [(0, true), (1, true)]);
+        let diff = csg("my_model = (1 - x[1]^2 - x[2]^2) \\ (0.5 - x[1]^2 - x[3]^2);").unwrap();
+        assert_eq!(diff.cands, [(0, true), (1, false)]);
+        let both =
+            csg("f = 0.5 - x[1]^2 - x[2]^2 - x[3]^2; my_model = max(f, -f & x[3]);").unwrap();
+        assert_eq!(both.leaves(), 2);
+        assert_eq!(both.cands, [(0, true), (0, false), (1, true)]);
+        let planes = csg("my_model = min(min(1 - x[1], x[1] + 1), -x[3]);").unwrap();
+        assert_eq!(planes.leaves(), 3);
+        for body in [
+            "my_model = hfBlendInt(0.5 - x[1]^2 - x[2]^2 - x[3]^2, x[3], 0.1, 1, 1);",
+            "my_model = (0.5 - x[1]^2 - x[2]^2 - x[3]^2) & sin(x[1]);",
+            "my_model = 0.5 - x[1]^2 - x[2]^2 - x[3]^3;",
+            "my_model = 0.5 - sqrt(x[1]^2 + x[2]^2 + x[3]^2);",
+        ] {
+            assert!(csg(body).is_none(), "{body}");
+        }
+        let spheres = |n: usize| {
+            let terms: Vec<String> = (0..n)
+                .map(|k| {
+                    format!(
+                        "(0.01 - (x[1] - {})^2 - x[2]^2 - x[3]^2)",
+                        k as f64 * 0.2 - 0.8
+                    )
+                })
+                .collect();
+            format!("my_model = {};", terms.join(" | "))
+        };
+        assert_eq!(csg(&spheres(MAX_LEAVES)).unwrap().leaves(), MAX_LEAVES);
+        assert!(csg(&spheres(MAX_LEAVES + 1)).is_none());
+    }
+
+    /// Rays straight down (depth `z` at height `2 − z`) onto the unit
+    /// sphere cut flat at height 0.5: the flat face, the sphere below it, a
+    /// miss beside the sphere, a ray that starts inside (its entry), a ray
+    /// tangent to the sphere (unsure), and one that starts on the flat
+    /// face (unsure).
+    #[test]
+    fn solves_a_cut_sphere() {
+        let c = csg("my_model = (1 - x[1]^2 - x[2]^2 - x[3]^2) & (0.5 - x[3]);").unwrap();
+        let mut l = Lanes::default();
+        let rays: [(f64, f64); 6] = [
+            (0.0, 0.0),
+            (0.95, 0.0),
+            (1.2, 0.0),
+            (0.0, 1.8),
+            (1.0, 0.0),
+            (0.0, 1.5),
+        ];
+        for (k, &(x, z0)) in rays.iter().enumerate() {
+            for a in 0..3 {
+                l.o[a][k] = [x, 0.0, 2.0][a];
+                l.d[a][k] = [0.0, 0.0, -1.0][a];
+            }
+            (l.z0[k], l.z1[k]) = (z0, 4.0);
+        }
+        let mut s = Solved::default();
+        c.solve(&l, rays.len(), &mut Work::default(), &mut s);
+        assert_eq!(s.sure, 0b1111, "{:b}", s.sure);
+        // (The compiler orders a commutative operation's operands: the
+        // leaves' order is the tape's.)
+        let sphere = c.leaves.iter().position(|q| q.a[0][0] != 0.0).unwrap() as u64;
+        let n = |k: usize| [s.n[0][k], s.n[1][k], s.n[2][k]];
+        // The flat face at height 0.5.
+        assert_eq!((s.z[0], s.leaf[0]), (1.5, 1 - sphere));
+        assert_eq!(n(0).map(f64::abs), [0.0, 0.0, 1.0]);
+        assert!(n(0)[2] > 0.0);
+        // The sphere at height √(1 − 0.95²), its normal radial.
+        let h = (1.0f64 - 0.95 * 0.95).sqrt();
+        assert!((s.z[1] - (2.0 - h)).abs() < 1e-14, "{}", s.z[1]);
+        assert_eq!(s.leaf[1], sphere);
+        let want = [0.95, 0.0, h];
+        assert!(
+            (0..3).all(|a| (n(1)[a] - want[a]).abs() < 1e-14),
+            "{:?}",
+            n(1)
+        );
+        assert_eq!(s.z[2], f64::INFINITY);
+        assert_eq!((s.z[3], s.leaf[3]), (1.8, ENTRY));
+    }
+}
