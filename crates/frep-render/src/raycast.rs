@@ -555,18 +555,36 @@ impl ModelCaster {
                 let mut j = 0;
                 while j < len {
                     let r = ray_lanes(&self.bounds, forward, fixed, &rm, x + j as u32, py);
-                    for q in 0..L.min(len - j) {
-                        let k = n + j + q;
-                        for a in 0..3 {
-                            lanes.o[a][k] = r.o[a][q];
-                            lanes.d[a][k] = r.dz[a][q];
-                        }
+                    let (mut z0, mut z1) = ([0.0; L], [0.0; L]);
+                    for q in 0..L {
                         let live = r.t0[q] <= r.t1[q];
-                        (lanes.z0[k], lanes.z1[k]) = if live {
-                            (r.t0[q] * r.c[q], r.t1[q] * r.c[q])
+                        z0[q] = if live {
+                            r.t0[q] * r.c[q]
                         } else {
-                            (f64::INFINITY, f64::NEG_INFINITY)
+                            f64::INFINITY
                         };
+                        z1[q] = if live {
+                            r.t1[q] * r.c[q]
+                        } else {
+                            f64::NEG_INFINITY
+                        };
+                    }
+                    let (k, m) = (n + j, L.min(len - j));
+                    if m == L {
+                        // (A copy of known length: no call.)
+                        for a in 0..3 {
+                            lanes.o[a][k..k + L].copy_from_slice(&r.o[a]);
+                            lanes.d[a][k..k + L].copy_from_slice(&r.dz[a]);
+                        }
+                        lanes.z0[k..k + L].copy_from_slice(&z0);
+                        lanes.z1[k..k + L].copy_from_slice(&z1);
+                    } else {
+                        for a in 0..3 {
+                            lanes.o[a][k..k + m].copy_from_slice(&r.o[a][..m]);
+                            lanes.d[a][k..k + m].copy_from_slice(&r.dz[a][..m]);
+                        }
+                        lanes.z0[k..k + m].copy_from_slice(&z0[..m]);
+                        lanes.z1[k..k + m].copy_from_slice(&z1[..m]);
                     }
                     j += L;
                 }
@@ -617,38 +635,56 @@ impl ModelCaster {
             return false;
         }
         stats.exact_rays += u64::from(live.count_ones());
+        // Hits at the entry into the box: the box face's normal.
+        let mut entries = 0u64;
+        for k in 0..n {
+            let entry = (solved.leaf[k] == ENTRY) & (solved.z[k] < f64::INFINITY);
+            entries |= u64::from(entry) << k;
+        }
+        while entries != 0 {
+            let k = entries.trailing_zeros() as usize;
+            entries &= entries - 1;
+            let p = [solved.p[0][k], solved.p[1][k], solved.p[2][k]];
+            match (solved.z[k] > 0.0)
+                .then(|| entry_face(&self.bounds, &p))
+                .flatten()
+            {
+                Some(f) => (0..3).for_each(|a| solved.n[a][k] = f[a]),
+                None => return false,
+            }
+        }
         let mut hit = [false; SPAN];
         for &(py, x, first, len) in runs {
             let row = &mut rows[(py - tile.y0) as usize];
             let bg = shader.background(py);
             let mut c = 0;
             while c < len {
-                let m = (len - c).min(SPAN);
+                let (m, k) = ((len - c).min(SPAN), first + c);
+                let o = 4 * (x - tile.x0) as usize + 4 * c;
+                let mut any = false;
                 for j in 0..m {
-                    let k = first + c + j;
-                    let z = solved.z[k];
-                    hit[j] = z < f64::INFINITY;
-                    let p = [
-                        lanes.o[0][k] + lanes.d[0][k] * z,
-                        lanes.o[1][k] + lanes.d[1][k] * z,
-                        lanes.o[2][k] + lanes.d[2][k] * z,
-                    ];
-                    let nrm = if solved.leaf[k] != ENTRY {
-                        [solved.n[0][k], solved.n[1][k], solved.n[2][k]]
-                    } else if hit[j] {
-                        match (z > 0.0).then(|| entry_face(&self.bounds, &p)).flatten() {
-                            Some(f) => f,
-                            None => return false,
-                        }
-                    } else {
-                        [0.0; 3]
-                    };
+                    hit[j] = solved.z[k + j] < f64::INFINITY;
+                    any |= hit[j];
+                }
+                if !any {
+                    for px in row[o..o + 4 * m].chunks_exact_mut(4) {
+                        px[..3].copy_from_slice(&bg);
+                    }
+                    c += m;
+                    continue;
+                }
+                if m == SPAN {
+                    // (A copy of known length: no call.)
                     for a in 0..3 {
-                        shade.n[a][j] = nrm[a];
-                        shade.p[a][j] = p[a];
+                        shade.n[a].copy_from_slice(&solved.n[a][k..k + SPAN]);
+                        shade.p[a].copy_from_slice(&solved.p[a][k..k + SPAN]);
+                    }
+                } else {
+                    for a in 0..3 {
+                        shade.n[a][..m].copy_from_slice(&solved.n[a][k..k + m]);
+                        shade.p[a][..m].copy_from_slice(&solved.p[a][k..k + m]);
                     }
                 }
-                let o = 4 * (x - tile.x0) as usize + 4 * c;
                 shader.shade_lanes(bg, shade, &hit[..m], &mut row[o..o + 4 * m]);
                 c += m;
             }
@@ -1935,7 +1971,7 @@ impl<'a> TileCtx<'a> {
                 continue;
             }
             let r = &self.sc.rays[i];
-            let position = r.at_depth(z);
+            let position = [s.p[0][k], s.p[1][k], s.p[2][k]];
             let normal = if s.leaf[k] == ENTRY {
                 // Inside where it enters the box: the box's face, as a
                 // direct hit there gets (none at the eye: left alone).

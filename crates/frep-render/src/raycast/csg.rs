@@ -57,7 +57,17 @@ pub(super) struct Csg {
     /// start the solid where the ray enters it, one under an odd number
     /// only where the ray leaves it.
     cands: Vec<(usize, bool)>,
+    /// Per leaf, its form: [`PLANE`] (`A = 0`), [`DIAGONAL`] (an axis-aligned
+    /// quadric: `A` diagonal) or [`FULL`].
+    shape: Vec<u8>,
 }
+
+/// A leaf of degree at most 1 ([`Csg::shape`]).
+const PLANE: u8 = 0;
+/// A leaf whose `A` is diagonal ([`Csg::shape`]).
+const DIAGONAL: u8 = 1;
+/// Any other leaf ([`Csg::shape`]).
+const FULL: u8 = 2;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Step {
@@ -99,6 +109,8 @@ pub(super) struct Solved {
     pub z: [f64; BLOCK],
     /// The leaf crossed at the hit, or [`ENTRY`].
     pub leaf: [u64; BLOCK],
+    /// The hit's position `o + d·z`.
+    pub p: [[f64; BLOCK]; 3],
     /// The unit outward normal at a leaf's hit (facing the ray).
     pub n: [[f64; BLOCK]; 3],
 }
@@ -109,6 +121,7 @@ impl Default for Solved {
             sure: 0,
             z: [f64::INFINITY; BLOCK],
             leaf: [ENTRY; BLOCK],
+            p: [[0.0; BLOCK]; 3],
             n: [[0.0; BLOCK]; 3],
         }
     }
@@ -143,10 +156,28 @@ impl Csg {
             .iter()
             .map(|&id| leaf_quadric(tape, id, inputs, bounds))
             .collect::<Option<Vec<_>>>()?;
+        let shape = leaves
+            .iter()
+            .map(|q: &Quadric| {
+                let off = [
+                    q.a[0][1], q.a[0][2], q.a[1][2], q.a[1][0], q.a[2][0], q.a[2][1],
+                ];
+                let diag = [q.a[0][0], q.a[1][1], q.a[2][2]];
+                match (
+                    off.iter().all(|&v| v == 0.0),
+                    diag.iter().all(|&v| v == 0.0),
+                ) {
+                    (true, true) => PLANE,
+                    (true, false) => DIAGONAL,
+                    _ => FULL,
+                }
+            })
+            .collect();
         Some(Csg {
             leaves,
             prog: b.prog,
             cands,
+            shape,
         })
     }
 
@@ -191,12 +222,23 @@ impl Csg {
         let nl = self.leaves.len();
         // Per leaf, the polynomial along each ray `α z² + β z + γ`, the
         // rounding allowance, and the crossings (NaN where none).
-        for (q, lr) in self.leaves.iter().zip(w.leaf.iter_mut()) {
-            lr.solve(q, l);
+        for ((q, &shape), lr) in self.leaves.iter().zip(&self.shape).zip(w.leaf.iter_mut()) {
+            match shape {
+                PLANE => lr.solve::<PLANE>(q, l),
+                DIAGONAL => lr.solve::<DIAGONAL>(q, l),
+                _ => lr.solve::<FULL>(q, l),
+            }
         }
         let leaves = &w.leaf[..nl];
-        let mut best = [f64::INFINITY; B];
-        let mut leaf = [ENTRY; B];
+        let Solved {
+            z: best,
+            leaf,
+            n: nrm,
+            p: pos,
+            ..
+        } = s;
+        *best = [f64::INFINITY; B];
+        *leaf = [ENTRY; B];
         let mut bad = 0u64;
         let mut live = 0u64;
         for k in 0..n {
@@ -272,18 +314,29 @@ impl Csg {
                 grazing |= u64::from(g) << k;
             }
         }
-        // The normals: each leaf's gradient at its hits, facing the ray.
-        let mut nrm = [[0.0f64; B]; 3];
+        // The positions, and the normals: each leaf's gradient at its hits,
+        // facing the ray.
+        for a in 0..3 {
+            for k in 0..B {
+                pos[a][k] = l.o[a][k] + l.d[a][k] * best[k];
+            }
+        }
         let mut finite = 0u64;
         for (j, q) in self.leaves.iter().enumerate() {
+            // (Only the leaves some lane hits.)
+            if !leaf[..n].contains(&(j as u64)) {
+                continue;
+            }
+            let [[a00, a01, a02], [_, a11, a12], [_, _, a22]] = q.a;
+            let (g0, p0) = (q.g, q.p0);
             for k in 0..B {
-                let z = best[k];
-                let p = [
-                    l.o[0][k] + l.d[0][k] * z,
-                    l.o[1][k] + l.d[1][k] * z,
-                    l.o[2][k] + l.d[2][k] * z,
+                // `Quadric::grad`, written out.
+                let u = [pos[0][k] - p0[0], pos[1][k] - p0[1], pos[2][k] - p0[2]];
+                let g = [
+                    g0[0] + 2.0 * (a00 * u[0] + a01 * u[1] + a02 * u[2]),
+                    g0[1] + 2.0 * (a01 * u[0] + a11 * u[1] + a12 * u[2]),
+                    g0[2] + 2.0 * (a02 * u[0] + a12 * u[1] + a22 * u[2]),
                 ];
-                let g = q.grad(p);
                 let slope = g[0] * l.d[0][k] + g[1] * l.d[1][k] + g[2] * l.d[2][k];
                 let len2 = g[0] * g[0] + g[1] * g[1] + g[2] * g[2];
                 let f = -slope.signum() / len2.sqrt();
@@ -291,8 +344,8 @@ impl Csg {
                 for a in 0..3 {
                     nrm[a][k] = if mine { g[a] * f } else { nrm[a][k] };
                 }
-                let ok = len2 > f64::MIN_POSITIVE && len2 < f64::MAX;
-                finite |= u64::from(mine && ok) << k;
+                let ok = (len2 > f64::MIN_POSITIVE) & (len2 < f64::MAX);
+                finite |= u64::from(mine & ok) << k;
             }
         }
         let entry = {
@@ -312,9 +365,6 @@ impl Csg {
         // A leaf's hit needs a normal; an entry hit's comes from the box.
         let normal_ok = !hit | entry | finite;
         s.sure = live & !bad & !grazing & normal_ok;
-        s.z = best;
-        s.leaf = leaf;
-        s.n = nrm;
     }
 }
 
@@ -357,24 +407,52 @@ impl LeafRay {
     /// Quadric `q` along the rays of `l` (every lane; the idle ones give
     /// harmless values). (Not inlined: its arguments are then known not
     /// to overlap, and the loop vectorises without run-time checks.)
+    /// `KIND`: the form of `q` ([`Csg::shape`]), its zero terms left out.
     #[inline(never)]
-    fn solve(&mut self, q: &Quadric, l: &Lanes) {
+    fn solve<const KIND: u8>(&mut self, q: &Quadric, l: &Lanes) {
         // `q(p0 + u) = c + g·u + uᵀAu` with `u = o − p0 + d·z`, its terms
         // written out (so that the loop vectorises).
         let [g0, g1, g2] = q.g;
         let [[a00, a01, a02], [_, a11, a12], [_, _, a22]] = q.a;
         let (c0, p0) = (q.c, q.p0);
+        if KIND == PLANE {
+            for k in 0..BLOCK {
+                let (u0, u1, u2) = (l.o[0][k] - p0[0], l.o[1][k] - p0[1], l.o[2][k] - p0[2]);
+                let (d0, d1, d2) = (l.d[0][k], l.d[1][k], l.d[2][k]);
+                let (z0, z1) = (l.z0[k], l.z1[k]);
+                let b = g0 * d0 + g1 * d1 + g2 * d2;
+                let c = c0 + (g0 * u0 + g1 * u1 + g2 * u2);
+                let zm = z0.abs().max(z1.abs());
+                let t = 1e-9 * (b.abs() * zm + c.abs());
+                // Its one root, into the solid where the slope `b` is
+                // positive (the bits of the quadratic's form below).
+                let r = -c / b;
+                self.enter[k] = if b > 0.0 { r } else { f64::NAN };
+                self.leave[k] = if b < 0.0 { r } else { f64::NAN };
+                self.graze[k] = false;
+                (self.a[k], self.b[k], self.c[k]) = (0.0, b, c);
+                self.tol[k] = t;
+            }
+            return;
+        }
+        let full = KIND == FULL;
         for k in 0..BLOCK {
             let (u0, u1, u2) = (l.o[0][k] - p0[0], l.o[1][k] - p0[1], l.o[2][k] - p0[2]);
             let (d0, d1, d2) = (l.d[0][k], l.d[1][k], l.d[2][k]);
             let (z0, z1) = (l.z0[k], l.z1[k]);
-            // `A·d` and `A·u`.
-            let ad0 = a00 * d0 + a01 * d1 + a02 * d2;
-            let ad1 = a01 * d0 + a11 * d1 + a12 * d2;
-            let ad2 = a02 * d0 + a12 * d1 + a22 * d2;
-            let au0 = a00 * u0 + a01 * u1 + a02 * u2;
-            let au1 = a01 * u0 + a11 * u1 + a12 * u2;
-            let au2 = a02 * u0 + a12 * u1 + a22 * u2;
+            // `A·d` and `A·u` (`A` diagonal unless `full`).
+            let (ad0, ad1, ad2, au0, au1, au2) = if full {
+                (
+                    a00 * d0 + a01 * d1 + a02 * d2,
+                    a01 * d0 + a11 * d1 + a12 * d2,
+                    a02 * d0 + a12 * d1 + a22 * d2,
+                    a00 * u0 + a01 * u1 + a02 * u2,
+                    a01 * u0 + a11 * u1 + a12 * u2,
+                    a02 * u0 + a12 * u1 + a22 * u2,
+                )
+            } else {
+                (a00 * d0, a11 * d1, a22 * d2, a00 * u0, a11 * u1, a22 * u2)
+            };
             let a = d0 * ad0 + d1 * ad1 + d2 * ad2;
             let b = 2.0 * (u0 * ad0 + u1 * ad1 + u2 * ad2) + (g0 * d0 + g1 * d1 + g2 * d2);
             let c = c0 + (g0 * u0 + g1 * u1 + g2 * u2) + (u0 * au0 + u1 * au1 + u2 * au2);
