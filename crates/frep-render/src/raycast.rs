@@ -7,6 +7,12 @@
 //!    range is evaluated once with interval arithmetic; where that box is
 //!    outside, none of the tile's rays is set up (where the model covers
 //!    part of the image, that was most of the cost of the misses).
+//!    **Set expressions over quadrics.** Where the model is R-functions,
+//!    `min`, `max` and negations over fields of degree at most 2 in the
+//!    point ([`ModelCaster::csg`]), every ray is then solved in closed form
+//!    (`csg`): its first hit is the first leaf crossing after which the set
+//!    expression holds. Only the rays that fail its checks go on to the
+//!    steps below.
 //! 1. **Frustum pruning.** The tile's rays are clipped to the model box; the
 //!    part of the tile frustum between two depths is enclosed in an
 //!    axis-aligned box ([`Frustum::aabb_between_depths`](crate::camera::Frustum::aabb_between_depths)) and the field is
@@ -194,7 +200,8 @@ pub struct CastStats {
     pub line_points: u64,
     /// Rays' slabs settled in closed form (see [`ModelCaster::exact`]):
     /// a hit bracketed or no crossing, from samples or from the ray's
-    /// polynomial of an earlier slab.
+    /// polynomial of an earlier slab; and rays solved whole on a set
+    /// expression over quadrics ([`ModelCaster::csg`]).
     pub exact_rays: u64,
 }
 
@@ -844,7 +851,9 @@ type ChildEntry = (u32, Box<[Choice]>, u32);
 struct Scratch {
     /// `evals[0]` is the root tape's.
     evals: Vec<Evals>,
-    /// The arrays of [`TileCtx::closed_form`], once used.
+    /// The arrays of the closed form on set expressions
+    /// ([`TileCtx::closed_form`], [`ModelCaster::closed_form_tile`]), once
+    /// used.
     closed_form: Option<Box<(Lanes, Work, Solved)>>,
     /// Hash of (parent, choices) → (parent, choices, child): the child is
     /// the parent itself where simplifying does not shorten the tape.
