@@ -9,7 +9,7 @@
 //!    part of the image, that was most of the cost of the misses).
 //!    **Set expressions over quadrics.** Where the model is R-functions,
 //!    `min`, `max` and negations over fields of degree at most 2 in the
-//!    point ([`ModelCaster::csg`]), every ray is then solved in closed form
+//!    point or root gaps of one ([`ModelCaster::csg`]), every ray is then solved in closed form
 //!    (`csg`): its first hit is the first leaf crossing after which the set
 //!    expression holds. Only the rays that fail its checks go on to the
 //!    steps below.
@@ -264,8 +264,9 @@ pub struct ModelCaster {
     pub quadric_blocks: bool,
     /// Whether, for a model with no colours that is a set expression over
     /// quadrics (R-functions, `min`, `max` and negations over at most 8
-    /// fields of degree at most 2 in the point: spheres, cylinders, planes,
-    /// ...), each tile's rays are first solved in closed form, every leaf's
+    /// fields of degree at most 2 in the point, or root gaps `k − sqrt(p)`
+    /// of one: spheres, cylinders, planes, ...), each tile's rays are first
+    /// solved in closed form, every leaf's
     /// crossings found and the expression checked after each
     /// (`raycast::csg`); the rays that fail a check are cast the usual way.
     /// Default on; off for comparisons.

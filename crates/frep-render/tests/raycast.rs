@@ -1139,8 +1139,9 @@ fn fast_trig_finds_the_exact_hits() {
 /// Models that are set expressions over quadrics ([`ModelCaster::csg`]):
 /// the examples of that form and others (unions, differences, `min` and
 /// `max`, a negation, a sloped ellipsoid cut by a plane, a parameter in a
-/// leaf, a slab whose face lies on the model box's, where the rays enter
-/// on a leaf's surface and are left to the general caster).
+/// leaf, root gaps `k − sqrt(p)` (M1's form), a slab whose face lies on
+/// the model box's, where the rays enter on a leaf's surface and are left
+/// to the general caster).
 fn set_expression_models() -> Vec<(String, String, Aabb)> {
     let unit = Aabb::new([-1.0; 3], [1.0; 3]);
     let mut models: Vec<(String, String, Aabb)> = [
@@ -1148,6 +1149,7 @@ fn set_expression_models() -> Vec<(String, String, Aabb)> {
         "sphere.hf",
         "closed_cylinder.hf",
         "cylinder.hf",
+        "m1_sphere.hf",
     ]
     .iter()
     .map(|f| {
@@ -1176,6 +1178,10 @@ fn set_expression_models() -> Vec<(String, String, Aabb)> {
         (
             "sloped",
             "my_model = (0.6 - (x[1] - 0.1)^2 - 2 * x[2]^2 - 0.5 * x[3]^2 - 0.4 * x[1] * x[3]) & (0.2 - 0.5 * x[1] - x[3]);",
+        ),
+        (
+            "root gaps",
+            "my_model = (0.7 - sqrt((x[1] - 0.1)^2 + x[2]^2 + x[3]^2)) \\ (0.25 - sqrt(x[1]^2 + x[3]^2));",
         ),
         (
             "parameter",

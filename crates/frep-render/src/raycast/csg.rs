@@ -4,8 +4,11 @@
 //! A model such as `hfSphere(x, c, 1) & x[3]` is a tree of R-functions
 //! (`&`, `|`, `\`, `min`, `max`, negation) over fields that are polynomials
 //! of degree at most 2 in the point: spheres, cylinders, ellipsoids, cones,
-//! planes. Each R-function keeps the sign of the set operation it stands
-//! for (`a & b ≥ 0` exactly where `a ≥ 0` and `b ≥ 0`, up to rounding), so
+//! planes; or root gaps `k − sqrt(p)` of one (a sphere written as a
+//! distance), which have the sign of `k² − p` where they are defined
+//! (`p ≥ 0`; elsewhere they are NaN, outside, and so is the model). Each
+//! R-function keeps the sign of the set operation it stands for
+//! (`a & b ≥ 0` exactly where `a ≥ 0` and `b ≥ 0`, up to rounding), so
 //! the solid is that set expression over the leaves' solids, and along a
 //! ray each leaf is a polynomial of degree 2 in the depth with at most two
 //! crossings. A ray's first hit is then the first of those crossings (or
@@ -130,9 +133,12 @@ impl Default for Solved {
 impl Csg {
     /// The set expression of output 0 of `tape` with these parameter
     /// values, where it is one: R-functions, `min`, `max` and negations
-    /// over at most [`MAX_LEAVES`] fields of degree at most 2 in the point,
-    /// each of whose values agrees with its quadric (by `1e-9` of its
-    /// scale) at the corners and the centre of `bounds`. `None` otherwise.
+    /// over fields of degree at most 2 in the point, each of whose values
+    /// agrees with its quadric (by `1e-9` of its scale) at the corners and
+    /// the centre of `bounds`, or root gaps `k − sqrt(p)` of one (two
+    /// leaves: `k² − p`, and `p`, which must be `≥ 0` for the whole
+    /// expression to hold), at most [`MAX_LEAVES`] leaves in all. `None`
+    /// otherwise.
     pub(super) fn of(tape: &Tape, inputs: &Inputs, bounds: &Aabb) -> Option<Csg> {
         let out = *tape.outputs.first()?;
         let mut b = Builder {
@@ -142,6 +148,26 @@ impl Csg {
             polarity: Vec::new(),
         };
         b.walk(out, 0, false)?;
+        // Each leaf's quadric; a root gap `k − sqrt(p)` is `k² − p` (its
+        // sign), and where `p < 0` its value is NaN, outside, and so is
+        // the whole expression's: the solid is also within `p ≥ 0`, a
+        // leaf of its own joined to the expression by `&`.
+        let mut leaves = Vec::with_capacity(b.leaf_ids.len());
+        let mut defined = Vec::new();
+        for &id in &b.leaf_ids {
+            let (q, p) = leaf_quadric(tape, id, inputs, bounds)?;
+            leaves.push(q);
+            defined.extend(p);
+        }
+        for p in defined {
+            b.prog.push(Step::Leaf(leaves.len() as u8));
+            b.prog.push(Step::And);
+            b.polarity.push((true, false));
+            leaves.push(p);
+        }
+        if leaves.len() > MAX_LEAVES {
+            return None;
+        }
         let mut cands = Vec::new();
         for (j, &(pos, neg)) in b.polarity.iter().enumerate() {
             if pos {
@@ -151,11 +177,6 @@ impl Csg {
                 cands.push((j, false));
             }
         }
-        let leaves = b
-            .leaf_ids
-            .iter()
-            .map(|&id| leaf_quadric(tape, id, inputs, bounds))
-            .collect::<Option<Vec<_>>>()?;
         let shape = leaves
             .iter()
             .map(|q: &Quadric| {
@@ -545,10 +566,41 @@ impl Builder<'_> {
     }
 }
 
+/// Node `id` of `tape` as a quadric with the field's sign: where it is a
+/// polynomial of degree at most 2 in the point, that polynomial; where it
+/// is a root gap `k − sqrt(p)` ([`Tape::root_gap`]), `k² − p` and, second,
+/// `p`. `None` where it is neither, or the polynomial does not agree with
+/// its quadric at the corners and centre of `bounds` (see [`Csg::of`]).
+fn leaf_quadric(
+    tape: &Tape,
+    id: NodeId,
+    inputs: &Inputs,
+    bounds: &Aabb,
+) -> Option<(Quadric, Option<Quadric>)> {
+    let sub = Tape::from_nodes(&tape.nodes, &[id]);
+    if let Some(k) = sub.root_gap() {
+        let Node::Binary(_, _, r) = tape.nodes[id.index()] else {
+            return None;
+        };
+        let Node::Unary(_, p) = tape.nodes[r.index()] else {
+            return None;
+        };
+        let p = polynomial_quadric(tape, p, inputs, bounds)?;
+        let gap = Quadric {
+            p0: p.p0,
+            c: k * k - p.c,
+            g: p.g.map(|v| -v),
+            a: p.a.map(|row| row.map(|v| -v)),
+        };
+        return Some((gap, Some(p)));
+    }
+    Some((polynomial_quadric(tape, id, inputs, bounds)?, None))
+}
+
 /// Node `id` of `tape` as a quadric, where it is a polynomial of degree at
 /// most 2 in the point that agrees with the quadric at the corners and
-/// centre of `bounds` (see [`Csg::of`]).
-fn leaf_quadric(tape: &Tape, id: NodeId, inputs: &Inputs, bounds: &Aabb) -> Option<Quadric> {
+/// centre of `bounds`.
+fn polynomial_quadric(tape: &Tape, id: NodeId, inputs: &Inputs, bounds: &Aabb) -> Option<Quadric> {
     let sub = Tape::from_nodes(&tape.nodes, &[id]);
     let degree = sub.polynomial_degree().filter(|&d| d <= 2)?;
     let p0: [f64; 3] = std::array::from_fn(|k| 0.5 * (bounds.min[k] + bounds.max[k]));
@@ -654,11 +706,19 @@ mod tests {
         assert_eq!(both.cands, [(0, true), (0, false), (1, true)]);
         let planes = csg("my_model = min(min(1 - x[1], x[1] + 1), -x[3]);").unwrap();
         assert_eq!(planes.leaves(), 3);
+        // A root gap `k − sqrt(p)`: `k² − p`, and `p ≥ 0` (where its value
+        // is defined) joined to the whole expression.
+        let gap = csg("my_model = (0.8 - sqrt(x[1]^2 + x[2]^2 + x[3]^2)) | (x[3] - 0.9);").unwrap();
+        assert_eq!(gap.leaves(), 3);
+        assert_eq!(gap.cands, [(0, true), (1, true), (2, true)]);
+        assert_eq!(*gap.prog.last().unwrap(), Step::And);
+        let (k2, p) = (&gap.leaves[0], &gap.leaves[2]);
+        assert!((k2.c - (0.64 - p.c)).abs() < 1e-15 && k2.a[0][0] == -p.a[0][0]);
         for body in [
             "my_model = hfBlendInt(0.5 - x[1]^2 - x[2]^2 - x[3]^2, x[3], 0.1, 1, 1);",
             "my_model = (0.5 - x[1]^2 - x[2]^2 - x[3]^2) & sin(x[1]);",
             "my_model = 0.5 - x[1]^2 - x[2]^2 - x[3]^3;",
-            "my_model = 0.5 - sqrt(x[1]^2 + x[2]^2 + x[3]^2);",
+            "my_model = 0.5 - sqrt(x[1]^2 + x[2]^3);",
         ] {
             assert!(csg(body).is_none(), "{body}");
         }
@@ -724,5 +784,27 @@ mod tests {
         );
         assert_eq!(s.z[2], f64::INFINITY);
         assert_eq!((s.z[3], s.leaf[3]), (1.8, ENTRY));
+    }
+
+    /// A root gap whose `p` is negative, its value NaN, in part of space:
+    /// the solid ends where `p` turns negative. Along `y` through the
+    /// origin, `0.6 − sqrt(x² − y² + 0.2)` is defined for `|y| ≤ √0.2` (and
+    /// positive there), so the ray from `y = −2` enters at `y = −√0.2`,
+    /// where `p` crosses 0, with the normal facing it.
+    #[test]
+    fn a_root_gap_ends_where_it_is_undefined() {
+        let c = csg(
+            "my_model = (0.6 - sqrt(x[1]^2 - x[2]^2 + 0.2)) & (0.8 - x[1]^2 - x[2]^2 - x[3]^2);",
+        )
+        .unwrap();
+        assert_eq!(c.leaves(), 3);
+        let mut l = Lanes::default();
+        (l.o[1][0], l.d[1][0], l.z0[0], l.z1[0]) = (-2.0, 1.0, 0.0, 4.0);
+        let mut s = Solved::default();
+        c.solve(&l, 1, &mut Work::default(), &mut s);
+        assert_eq!(s.sure, 1);
+        assert!((s.z[0] - (2.0 - 0.2f64.sqrt())).abs() < 1e-14, "{}", s.z[0]);
+        assert_eq!(s.leaf[0], 2);
+        assert_eq!([s.n[0][0], s.n[1][0], s.n[2][0]], [0.0, -1.0, 0.0]);
     }
 }
