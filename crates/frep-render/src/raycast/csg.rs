@@ -45,6 +45,27 @@ pub(super) const MAX_LEAVES: usize = 8;
 /// The most nodes of the set expression (R-functions and negations).
 const MAX_OPS: usize = 64;
 
+/// The deepest evaluation stack of a set expression ([`Csg::holds`];
+/// checked by [`stack_depth`] when one is built).
+const STACK: usize = MAX_OPS + 2;
+
+/// The number of values a set expression leaves on the stack, where every
+/// step finds its operands and the stack never holds more than [`STACK`].
+fn stack_depth(prog: &[Step]) -> Option<usize> {
+    let mut top = 0usize;
+    for s in prog {
+        top = match s {
+            Step::Leaf(_) => top + 1,
+            Step::Not => top.checked_sub(1)? + 1,
+            Step::And | Step::Or => top.checked_sub(2)? + 1,
+        };
+        if top > STACK {
+            return None;
+        }
+    }
+    Some(top)
+}
+
 /// `leaf` of a [`Solved`] lane whose hit is its entry into the model box.
 pub(super) const ENTRY: u64 = u64::MAX;
 
@@ -165,7 +186,7 @@ impl Csg {
             b.polarity.push((true, false));
             leaves.push(p);
         }
-        if leaves.len() > MAX_LEAVES {
+        if leaves.len() > MAX_LEAVES || stack_depth(&b.prog) != Some(1) {
             return None;
         }
         let mut cands = Vec::new();
@@ -212,7 +233,7 @@ impl Csg {
     /// `m[j]`: leaf `j` holds lane `k`): the lanes the solid holds.
     #[inline]
     fn holds(&self, m: &[u64; MAX_LEAVES]) -> u64 {
-        let mut stack = [0u64; MAX_OPS + 1];
+        let mut stack = [0u64; STACK];
         let mut top = 0;
         for s in &self.prog {
             match *s {
@@ -735,6 +756,24 @@ mod tests {
         };
         assert_eq!(csg(&spheres(MAX_LEAVES)).unwrap().leaves(), MAX_LEAVES);
         assert!(csg(&spheres(MAX_LEAVES + 1)).is_none());
+        // Deep expressions: a chain `a & (b & (a & ...))` of 60 operations
+        // is taken (its stack checked), one past the depth limit is not.
+        let chain = |n: usize| {
+            let mut e = String::from("(0.5 - x[1]^2 - x[2]^2 - x[3]^2)");
+            for k in 0..n {
+                let leaf = ["(x[3] + 0.9)", "(0.5 - x[1]^2 - x[2]^2 - x[3]^2)"][k % 2];
+                e = format!("({leaf} & {e})");
+            }
+            format!("my_model = {e};")
+        };
+        let deep = csg(&chain(60)).unwrap();
+        assert_eq!(stack_depth(&deep.prog), Some(1));
+        let mut l = Lanes::default();
+        (l.o[2][0], l.d[2][0], l.z0[0], l.z1[0]) = (2.0, -1.0, 0.0, 4.0);
+        let mut s = Solved::default();
+        deep.solve(&l, 1, &mut Work::default(), &mut s);
+        assert_eq!((s.sure, s.z[0]), (1, 2.0 - 0.5f64.sqrt()));
+        assert!(csg(&chain(MAX_OPS + 1)).is_none());
     }
 
     /// Rays straight down (depth `z` at height `2 − z`) onto the unit
