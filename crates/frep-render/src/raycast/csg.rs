@@ -42,7 +42,8 @@ pub(super) const BLOCK: usize = 64;
 /// (every crossing is checked against every leaf).
 pub(super) const MAX_LEAVES: usize = 8;
 
-/// The most nodes of the set expression (R-functions and negations).
+/// The deepest nesting of a set expression's operations, and half the
+/// most steps it may take ([`Csg::of`]).
 const MAX_OPS: usize = 64;
 
 /// The deepest evaluation stack of a set expression ([`Csg::holds`];
