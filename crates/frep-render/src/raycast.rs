@@ -1540,6 +1540,16 @@ impl RayPoly {
         finite && self.w > 0.0 && self.c < -1e-9 * self.scale
     }
 
+    /// Whether the field is clearly defined at the slab's start: always,
+    /// but for a root gap `k − sqrt(p)`, whose polynomial `q = k² − p`
+    /// holds no trace of where `p < 0` (the field NaN, outside), only
+    /// where `q` is below `k²` by more than rounding. (Before a crossing
+    /// from `q < 0`, `p > k²`: only a slab that starts inside needs this.)
+    fn defined_at_start(&self) -> bool {
+        let k2 = self.k * self.k;
+        self.k <= 0.0 || self.c < k2 - 1e-9 * self.scale.max(k2)
+    }
+
     /// The smallest fraction past `s0` where `q = 0` (`∞` where none).
     #[inline]
     fn first_s(&self, s0: f64) -> f64 {
@@ -2369,11 +2379,16 @@ impl<'a> TileCtx<'a> {
     }
 
     /// Ray `i`'s fresh polynomial `p` over its part `[lo, hi]` of an exact
-    /// slab on evaluator `e`: inside at `lo` is a direct hit there; values
-    /// not finite leave the ray unsure (`false`); otherwise `p` is kept
+    /// slab on evaluator `e`: inside at `lo` is a direct hit there (where
+    /// the field is defined there: [`RayPoly::defined_at_start`]; else the
+    /// ray is unsure); values not finite leave the ray unsure (`false`);
+    /// otherwise `p` is kept
     /// for the ray's later slabs and [`TileCtx::settle`] takes it.
     fn take_poly(&mut self, p: RayPoly, e: usize, i: usize, lo: f64, hi: f64) -> bool {
         if p.c >= 0.0 {
+            if !p.defined_at_start() {
+                return false;
+            }
             self.sc.direct.push((i, lo, lo <= self.sc.rays[i].z0));
             return true;
         }
