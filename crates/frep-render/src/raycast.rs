@@ -563,20 +563,6 @@ impl ModelCaster {
                 let mut j = 0;
                 while j < len {
                     let r = ray_lanes(&self.bounds, forward, fixed, &rm, x + j as u32, py);
-                    let (mut z0, mut z1) = ([0.0; L], [0.0; L]);
-                    for q in 0..L {
-                        let live = r.t0[q] <= r.t1[q];
-                        z0[q] = if live {
-                            r.t0[q] * r.c[q]
-                        } else {
-                            f64::INFINITY
-                        };
-                        z1[q] = if live {
-                            r.t1[q] * r.c[q]
-                        } else {
-                            f64::NEG_INFINITY
-                        };
-                    }
                     let (k, m) = (n + j, L.min(len - j));
                     if m == L {
                         // (A copy of known length: no call.)
@@ -584,15 +570,15 @@ impl ModelCaster {
                             lanes.o[a][k..k + L].copy_from_slice(&r.o[a]);
                             lanes.d[a][k..k + L].copy_from_slice(&r.dz[a]);
                         }
-                        lanes.z0[k..k + L].copy_from_slice(&z0);
-                        lanes.z1[k..k + L].copy_from_slice(&z1);
+                        lanes.z0[k..k + L].copy_from_slice(&r.z0);
+                        lanes.z1[k..k + L].copy_from_slice(&r.z1);
                     } else {
                         for a in 0..3 {
                             lanes.o[a][k..k + m].copy_from_slice(&r.o[a][..m]);
                             lanes.d[a][k..k + m].copy_from_slice(&r.dz[a][..m]);
                         }
-                        lanes.z0[k..k + m].copy_from_slice(&z0[..m]);
-                        lanes.z1[k..k + m].copy_from_slice(&z1[..m]);
+                        lanes.z0[k..k + m].copy_from_slice(&r.z0[..m]);
+                        lanes.z1[k..k + m].copy_from_slice(&r.z1[..m]);
                     }
                     j += L;
                 }
@@ -782,6 +768,41 @@ impl Quadric {
             normal,
             color: None,
         })
+    }
+
+    /// The step of a fit over the model box `b` ([`Quadric::fit`]): a
+    /// quarter of its longest side.
+    fn fit_step(b: &Aabb) -> f64 {
+        0.25 * (0..3).map(|a| b.max[a] - b.min[a]).fold(0.0, f64::max)
+    }
+
+    /// The points a quadric is fitted at ([`Quadric::fit`]): `p0`, and `h`
+    /// from it along each axis.
+    fn fit_points(p0: [f64; 3], h: f64) -> [[f64; 3]; 4] {
+        std::array::from_fn(|j| {
+            let mut p = p0;
+            if j > 0 {
+                p[j - 1] += h;
+            }
+            p
+        })
+    }
+
+    /// The quadric about `p0` with the values and gradients `qs` at its
+    /// [`Quadric::fit_points`]: the value and gradient at `p0`, and `A`
+    /// from the differences of the gradients (a quadric's gradient is
+    /// affine: exact but for rounding), symmetrised.
+    fn fit(p0: [f64; 3], h: f64, qs: &[(f64, [f64; 3]); 4]) -> Quadric {
+        let (c, g) = qs[0];
+        let mut a = [[0.0; 3]; 3];
+        for (i, row) in a.iter_mut().enumerate() {
+            for (j, v) in row.iter_mut().enumerate() {
+                let dij = qs[j + 1].1[i] - g[i];
+                let dji = qs[i + 1].1[j] - g[j];
+                *v = (dij + dji) / (4.0 * h);
+            }
+        }
+        Quadric { p0, c, g, a }
     }
 
     /// `q(p)`, and the sum of its terms' sizes there (for a rounding
@@ -1723,30 +1744,22 @@ fn set_up_rays(
                 d,
                 dz,
                 c,
-                t0,
-                t1,
+                z0,
+                z1,
             } = ray_lanes(bounds, forward, fixed, &rm, x, py);
             for j in 0..n {
-                let live = t0[j] <= t1[j];
-                let (z0, z1) = if live {
-                    (t0[j] * c[j], t1[j] * c[j])
-                } else {
-                    (0.0, 0.0)
-                };
+                let live = z0[j] <= z1[j];
+                let (rz0, rz1) = if live { (z0[j], z1[j]) } else { (0.0, 0.0) };
                 rays[k] = RayInfo {
                     origin: [o[0][j], o[1][j], o[2][j]],
                     dir: [d[0][j], d[1][j], d[2][j]],
                     dz: [dz[0][j], dz[1][j], dz[2][j]],
                     c: c[j],
-                    z0,
-                    z1,
+                    z0: rz0,
+                    z1: rz1,
                     live,
                 };
-                (z0s[k], z1s[k]) = if live {
-                    (z0, z1)
-                } else {
-                    (f64::INFINITY, f64::NEG_INFINITY)
-                };
+                (z0s[k], z1s[k]) = (z0[j], z1[j]);
                 k += 1;
             }
             x += n as u32;
@@ -1757,15 +1770,15 @@ fn set_up_rays(
 }
 
 /// [`SETUP_LANES`] rays of a row ([`ray_lanes`]): origins, directions, the
-/// [`per_dir`] terms, and the parameters `t0 ≤ t1` of the ray's part in
-/// the model box (`t0 > t1`: it misses the box).
+/// [`per_dir`] terms, and the depths `z0 ≤ z1` of the ray's part in the
+/// model box (`[+∞, −∞]` where it misses the box).
 struct RayLanes {
     o: [[f64; SETUP_LANES]; 3],
     d: [[f64; SETUP_LANES]; 3],
     dz: [[f64; SETUP_LANES]; 3],
     c: [f64; SETUP_LANES],
-    t0: [f64; SETUP_LANES],
-    t1: [f64; SETUP_LANES],
+    z0: [f64; SETUP_LANES],
+    z1: [f64; SETUP_LANES],
 }
 
 /// The rays of pixels `x..x + SETUP_LANES` of row `py` (`rm`, of a camera
@@ -1824,13 +1837,24 @@ fn ray_lanes(
             t1[j] = if hi < t1[j] { hi } else { t1[j] };
         }
     }
+    // The depths (`t·c`; a miss `[+∞, −∞]`).
+    let (mut z0, mut z1) = ([0.0; L], [0.0; L]);
+    for j in 0..L {
+        let live = t0[j] <= t1[j];
+        z0[j] = if live { t0[j] * c[j] } else { f64::INFINITY };
+        z1[j] = if live {
+            t1[j] * c[j]
+        } else {
+            f64::NEG_INFINITY
+        };
+    }
     RayLanes {
         o,
         d,
         dz,
         c,
-        t0,
-        t1,
+        z0,
+        z1,
     }
 }
 
@@ -2331,8 +2355,7 @@ impl<'a> TileCtx<'a> {
             let quad = if affine {
                 None
             } else {
-                let b = &self.caster.bounds;
-                let h = 0.25 * (0..3).map(|a| b.max[a] - b.min[a]).fold(0.0, f64::max);
+                let h = Quadric::fit_step(&self.caster.bounds);
                 self.quadric(e, p0, h)
             };
             if let Some(quad) = quad {
@@ -2451,11 +2474,7 @@ impl<'a> TileCtx<'a> {
         let k = self.sc.evals[e].exact.unwrap_or(0.0);
         let sc = &mut *self.sc;
         sc.set_points(4);
-        for j in 0..4 {
-            let mut p = p0;
-            if j > 0 {
-                p[j - 1] += h;
-            }
+        for (j, p) in Quadric::fit_points(p0, h).into_iter().enumerate() {
             [sc.xs[j], sc.ys[j], sc.zs[j]] = p;
         }
         sc.eval_grads(e, &self.caster.inputs);
@@ -2472,16 +2491,8 @@ impl<'a> TileCtx<'a> {
                 (g.v, grad)
             }
         });
-        let (c, g) = qs[0];
-        let mut a = [[0.0; 3]; 3];
-        for (i, row) in a.iter_mut().enumerate() {
-            for (j, v) in row.iter_mut().enumerate() {
-                let dij = qs[j + 1].1[i] - g[i];
-                let dji = qs[i + 1].1[j] - g[j];
-                *v = (dij + dji) / (4.0 * h);
-            }
-        }
-        let quad = Quadric { p0, c, g, a };
+        let quad = Quadric::fit(p0, h, &qs);
+        let Quadric { c, g, a, .. } = quad;
         let finite = qs
             .iter()
             .all(|(v, g)| v.is_finite() && g.iter().all(|d| d.is_finite()));

@@ -625,24 +625,15 @@ fn leaf_quadric(
 fn polynomial_quadric(tape: &Tape, id: NodeId, inputs: &Inputs, bounds: &Aabb) -> Option<Quadric> {
     let sub = Tape::from_nodes(&tape.nodes, &[id]);
     let degree = sub.polynomial_degree().filter(|&d| d <= 2)?;
-    let p0: [f64; 3] = std::array::from_fn(|k| 0.5 * (bounds.min[k] + bounds.max[k]));
-    let h = 0.25
-        * (0..3)
-            .map(|k| bounds.max[k] - bounds.min[k])
-            .fold(0.0, f64::max);
+    let (p0, h) = (bounds.center(), Quadric::fit_step(bounds));
     if !(h > 0.0 && h.is_finite()) {
         return None;
     }
-    // The value and gradient at `p0` and at `h` from it along each axis,
-    // then the values at the box's corners and `p0` again.
+    // The value and gradient at the fit's points, then the values at the
+    // box's corners and `p0` again.
+    let fit = Quadric::fit_points(p0, h);
     let pts: [[f64; 3]; 13] = std::array::from_fn(|j| match j {
-        0..=3 => {
-            let mut p = p0;
-            if j > 0 {
-                p[j - 1] += h;
-            }
-            p
-        }
+        0..=3 => fit[j],
         4..=11 => std::array::from_fn(|k| {
             if (j - 4) >> k & 1 == 0 {
                 bounds.min[k]
@@ -661,24 +652,17 @@ fn polynomial_quadric(tape: &Tape, id: NodeId, inputs: &Inputs, bounds: &Aabb) -
         &mut GradRegs::default(),
         &mut gs,
     );
-    let c = gs[0].v;
-    let g = if degree == 0 {
-        [0.0; 3]
-    } else {
-        [gs[0].dx, gs[0].dy, gs[0].dz]
-    };
-    let grad = |j: usize| [gs[j].dx, gs[j].dy, gs[j].dz];
-    let mut a = [[0.0; 3]; 3];
-    if degree == 2 {
-        for (i, row) in a.iter_mut().enumerate() {
-            for (j, v) in row.iter_mut().enumerate() {
-                let dij = grad(j + 1)[i] - g[i];
-                let dji = grad(i + 1)[j] - g[j];
-                *v = (dij + dji) / (4.0 * h);
-            }
-        }
+    let qs: [(f64, [f64; 3]); 4] =
+        std::array::from_fn(|j| (gs[j].v, [gs[j].dx, gs[j].dy, gs[j].dz]));
+    let mut quad = Quadric::fit(p0, h, &qs);
+    // (The terms a lower degree has not: exactly 0, not rounding.)
+    if degree < 2 {
+        quad.a = [[0.0; 3]; 3];
     }
-    let quad = Quadric { p0, c, g, a };
+    if degree == 0 {
+        quad.g = [0.0; 3];
+    }
+    let Quadric { c, g, a, .. } = quad;
     let finite = [c]
         .iter()
         .chain(&g)
