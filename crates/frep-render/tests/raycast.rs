@@ -861,6 +861,30 @@ fn quadric_blocks_equal_single_rays() {
     }
 }
 
+/// The pixels hit in `on` or `off` but not both (`cam`'s casts), asserting
+/// that the depths of the others agree within a quarter of a pixel
+/// footprint.
+fn exact_agrees(what: &str, cam: &Camera, on: &HitBuffer, off: &HitBuffer) -> usize {
+    let (w, h) = (on.width, on.height);
+    let mut differ = 0;
+    for (i, (a, o)) in on.hits.iter().zip(&off.hits).enumerate() {
+        match (a, o) {
+            (Some(a), Some(o)) => {
+                let fp = cam.pixel_footprint(o.t, w, h);
+                assert!(
+                    (a.t - o.t).abs() <= 0.25 * fp,
+                    "{what}: pixel {i} at {} and {} (footprint {fp})",
+                    a.t,
+                    o.t
+                );
+            }
+            (None, None) => {}
+            _ => differ += 1,
+        }
+    }
+    differ
+}
+
 /// Slabs settled in closed form where the shortened tape is a polynomial of
 /// degree 2 ([`ModelCaster::exact`]) give the hits of sampling them: on
 /// every example, in a top view along an axis and two perspective views,
@@ -901,22 +925,7 @@ fn exact_slabs_match_sampling() {
             let [(on, on_st), (off, off_st)] = cast_exact_on_off(&model, b, &cam, w, h);
             assert_eq!(off_st.exact_rays, 0);
             exact_rays += on_st.exact_rays;
-            let mut differ = 0;
-            for (i, (a, o)) in on.hits.iter().zip(&off.hits).enumerate() {
-                match (a, o) {
-                    (Some(a), Some(o)) => {
-                        let fp = cam.pixel_footprint(o.t, w, h);
-                        assert!(
-                            (a.t - o.t).abs() <= 0.25 * fp,
-                            "{name} yaw {yaw}: pixel {i} at {} and {} (footprint {fp})",
-                            a.t,
-                            o.t
-                        );
-                    }
-                    (None, None) => {}
-                    _ => differ += 1,
-                }
-            }
+            let differ = exact_agrees(&format!("{name} yaw {yaw}"), &cam, &on, &off);
             assert!(
                 off.hit_count() > 200,
                 "{name} yaw {yaw}: {} hits",
@@ -1507,31 +1516,11 @@ fn root_gaps_are_not_hit_where_undefined() {
             .unwrap();
         for (yaw, pitch, fov) in CSG_VIEWS {
             let cam = Camera::orbit(&b, yaw, pitch, fov);
-            let cast = |exact: bool| {
-                let mut c = ModelCaster::new(&model, Inputs::default(), b);
-                (c.exact, c.csg) = (exact, false);
-                pool.install(|| cast_tiled(&c, &cam, w, h, 16))
-            };
-            let (on, off) = (cast(true), cast(false));
+            let [(on, _), (off, _)] = pool.install(|| cast_exact_on_off(&model, b, &cam, w, h));
             assert!(off.hit_count() > 300, "yaw {yaw}: {} hits", off.hit_count());
-            let mut differ = 0;
-            for (i, (a, o)) in on.hits.iter().zip(&off.hits).enumerate() {
-                let (Some(a), Some(o)) = (a, o) else {
-                    differ += usize::from(a.is_some() != o.is_some());
-                    continue;
-                };
-                let fp = cam.pixel_footprint(o.t, w, h);
-                assert!(
-                    (a.t - o.t).abs() <= fp / 4.0,
-                    "{threads} threads, yaw {yaw}: pixel {i} at {} and {} (footprint {fp})",
-                    a.t,
-                    o.t
-                );
-            }
-            assert!(
-                differ <= 3,
-                "{threads} threads, yaw {yaw}: {differ} pixels differ"
-            );
+            let what = format!("{threads} threads, yaw {yaw}");
+            let differ = exact_agrees(&what, &cam, &on, &off);
+            assert!(differ <= 3, "{what}: {differ} pixels differ");
         }
     }
 }
