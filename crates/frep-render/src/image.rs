@@ -296,9 +296,10 @@ const SRGB_CELLS: usize = 4096;
 /// thresholds at or below `c`, where threshold `b - 1` is the smallest `c`
 /// whose byte is at least `b` (found once by bisection over the `f32`s, so
 /// the result is the same byte, bit for bit, for every finite `c`). An index
-/// gives the count at the start of `c`'s cell of `1/SRGB_CELLS` (exact: the
-/// scaling is by a power of two); a cell holds at most one threshold
-/// (checked when the table is built), compared with `c`.
+/// gives the count below `c`'s cell of `1/SRGB_CELLS`, centred on a
+/// multiple of `1/SRGB_CELLS` (exact: the scaling is by a power of two); a
+/// cell holds at most one threshold (checked when the table is built),
+/// compared with `c`.
 #[cfg_attr(not(test), allow(dead_code))]
 fn srgb_byte(c: f32) -> u8 {
     srgb_table().byte(c)
@@ -307,10 +308,11 @@ fn srgb_byte(c: f32) -> u8 {
 /// The index of [`srgb_byte`] and each cell's next threshold.
 #[derive(Debug)]
 struct SrgbTable {
-    /// Per cell, the number of thresholds at or below its start.
+    /// Per cell, the number of thresholds below it.
     idx: Box<[u8; SRGB_CELLS + 1]>,
-    /// Per cell, the next threshold (`t[idx[cell]]`; +∞ past the last):
-    /// read independently of `idx`, so the two loads overlap.
+    /// Per cell, the first threshold not below it (`t[idx[cell]]`; +∞
+    /// past the last): read independently of `idx`, so the two loads
+    /// overlap.
     next: Box<[f32; SRGB_CELLS + 1]>,
 }
 
@@ -332,14 +334,18 @@ fn srgb_table() -> &'static SrgbTable {
             }
             f32::from_bits(lo)
         });
+        // Cell `q` is `[q − ½, q + ½] / SRGB_CELLS` (both ends: a value
+        // halfway between two whole numbers rounds to the even one).
+        let edge = |q: usize| (q as f64 - 0.5) / SRGB_CELLS as f64;
         let idx: Box<[u8; SRGB_CELLS + 1]> = Box::new(std::array::from_fn(|q| {
-            let x = q as f32 / SRGB_CELLS as f32;
-            t.partition_point(|&v| v <= x) as u8
+            t.partition_point(|&v| f64::from(v) < edge(q)) as u8
         }));
         // The steepest part of the curve climbs about 3300 bytes per unit,
         // fewer than the cells: no cell holds two thresholds.
         assert!(
-            idx.windows(2).all(|w| w[1] - w[0] <= 1),
+            (0..=SRGB_CELLS).all(|q| {
+                t.partition_point(|&v| f64::from(v) <= edge(q + 1)) - idx[q] as usize <= 1
+            }),
             "sRGB index: two thresholds in one cell"
         );
         let next = Box::new(std::array::from_fn(|q| {
@@ -350,18 +356,21 @@ fn srgb_table() -> &'static SrgbTable {
 }
 
 impl SrgbTable {
-    /// [`srgb_byte`], without a branch (so that loops over pixels keep
-    /// several lookups in flight): `c` is clamped to `[0, 1]` first, which
-    /// changes no byte (every threshold is positive, and the last is at
-    /// most 1); NaN stays NaN, indexes cell 0 (the float-to-integer cast
-    /// gives 0) and compares false: byte 0, as `to_byte` gives.
-    #[inline]
+    /// [`srgb_byte`], without a branch or a float-to-integer cast (so that
+    /// loops over pixels vectorise): `c` is clamped to `[0, 1]` first,
+    /// which changes no byte (every threshold is positive, and the last is
+    /// at most 1); NaN becomes 0 (`max` takes the number), byte 0, as
+    /// `to_byte` gives.
+    #[inline(always)]
     fn byte(&self, c: f32) -> u8 {
-        let q = c.clamp(0.0, 1.0);
+        let q = c.max(0.0).min(1.0);
+        // The nearest whole number to `q · SRGB_CELLS` (exact), in the low
+        // bits of its sum with 2²³, whose last place is 1.
+        let cell = ((q * SRGB_CELLS as f32 + 8_388_608.0).to_bits() & 0x1fff) as usize;
+        let cell = cell.min(SRGB_CELLS);
         // At most one threshold lies inside a cell (checked when the table
-        // is built): the byte is the cell's count, plus one past it.
-        // Through `i32` (one conversion instruction; NaN gives 0).
-        let cell = ((q * SRGB_CELLS as f32) as i32).clamp(0, SRGB_CELLS as i32) as usize;
+        // is built): the byte is the count below the cell, plus one where
+        // the cell's threshold is at or below `q`.
         self.idx[cell] + u8::from(self.next[cell] <= q)
     }
 }
@@ -741,6 +750,32 @@ mod tests {
         for bits in (0..0x3f80_0000u32).step_by(997) {
             let c = f32::from_bits(bits);
             assert_eq!(srgb_byte(c), to_byte(linear_to_srgb(c)), "{c}");
+        }
+        // Around every cell's edges (halfway values round to even cells).
+        for q in 0..=2 * SRGB_CELLS as u32 + 1 {
+            let edge = (q as f32 - 1.0) / (2 * SRGB_CELLS) as f32;
+            for d in -2i32..=2 {
+                let c = f32::from_bits(edge.max(0.0).to_bits().saturating_add_signed(d));
+                assert_eq!(srgb_byte(c), to_byte(linear_to_srgb(c)), "{c}");
+            }
+        }
+        // ...and every threshold (the smallest value of each byte, found
+        // by bisection over the bit patterns).
+        let byte = |bits: u32| to_byte(linear_to_srgb(f32::from_bits(bits)));
+        for want in 1..=255u8 {
+            let (mut lo, mut hi) = (0u32, 1.0f32.to_bits());
+            while lo < hi {
+                let mid = lo + (hi - lo) / 2;
+                if byte(mid) >= want {
+                    hi = mid;
+                } else {
+                    lo = mid + 1;
+                }
+            }
+            for d in -2i32..=2 {
+                let c = f32::from_bits(lo.saturating_add_signed(d));
+                assert_eq!(srgb_byte(c), to_byte(linear_to_srgb(c)), "{c}");
+            }
         }
         assert_eq!(srgb_byte(f32::NAN), to_byte(linear_to_srgb(f32::NAN)));
         assert_eq!(srgb_byte(f32::INFINITY), 255);
