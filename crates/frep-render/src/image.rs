@@ -588,26 +588,26 @@ impl Shader {
         let lighting = &self.lighting;
         let cam = &self.camera;
         let ShadeLanes { n, p, albedo, aof } = lanes;
-        let (key, fill, rim) = (self.key, self.fill, self.rim);
-        let back = scale(cam.forward, -1.0);
+        let f32s = |v: [f64; 3]| v.map(|c| c as f32);
+        let (key, fill, rim) = (f32s(self.key), f32s(self.fill), f32s(self.rim));
         // The direction back along each pixel's ray and the key light's
         // half vector (the same for every pixel of an orthographic view).
-        let mut view = [[0.0f64; SPAN]; 3];
-        let mut half = [[0.0f64; SPAN]; 3];
+        let mut view = [[0.0f32; SPAN]; 3];
+        let mut half = [[0.0f32; SPAN]; 3];
         match self.ortho {
             Some((v, hv)) => {
                 for k in 0..3 {
-                    view[k] = [v[k]; SPAN];
-                    half[k] = [hv[k]; SPAN];
+                    view[k] = [v[k] as f32; SPAN];
+                    half[k] = [hv[k] as f32; SPAN];
                 }
             }
             None => {
-                let eye = cam.eye;
+                let (eye, back) = (cam.eye, scale(cam.forward, -1.0));
                 for j in 0..SPAN {
                     let v = normalize3([eye[0] - p[0][j], eye[1] - p[1][j], eye[2] - p[2][j]]);
                     let ok = v.iter().all(|c| c.is_finite()) && dot(v, v) > 0.5;
-                    let v = if ok { v } else { back };
-                    let hv = normalize3([key[0] + v[0], key[1] + v[1], key[2] + v[2]]);
+                    let v = f32s(if ok { v } else { back });
+                    let hv = unit3_f32([key[0] + v[0], key[1] + v[1], key[2] + v[2]]);
                     for k in 0..3 {
                         view[k][j] = v[k];
                         half[k][j] = hv[k];
@@ -622,21 +622,38 @@ impl Shader {
         let mut fd = [0.0f32; SPAN];
         let mut rd = [0.0f32; SPAN];
         let mut sx = [0.0f32; SPAN];
+        // The normals scaled by a power of two (exact) so that their
+        // largest component is about 1, then rounded to `f32`: normals of
+        // any finite size keep their direction. (A pass of its own: the
+        // `f32` passes have twice the lanes.)
+        let mut nf = [[0.0f32; SPAN]; 3];
         for j in 0..SPAN {
-            let nn = normalize3([n[0][j], n[1][j], n[2][j]]);
+            let g = [n[0][j], n[1][j], n[2][j]];
+            let m = g[0].abs().max(g[1].abs()).max(g[2].abs());
+            let e = (m.to_bits() >> 52) as i64;
+            let s = f64::from_bits(((2046 - e).clamp(1, 2046) as u64) << 52);
+            for k in 0..3 {
+                nf[k][j] = (g[k] * s) as f32;
+            }
+        }
+        for j in 0..SPAN {
+            let g = [nf[0][j], nf[1][j], nf[2][j]];
+            let l2 = dot_f32(g, g);
+            let ok = (l2 > 0.0) & (l2 < f32::INFINITY);
+            let inv = 1.0 / l2.sqrt();
             let v = [view[0][j], view[1][j], view[2][j]];
-            let ok = nn.iter().all(|c| c.is_finite()) && dot(nn, nn) > 0.5;
-            let nn = if ok { nn } else { v };
-            let nn = if dot(nn, v) < 0.0 {
-                scale(nn, -1.0)
+            let nn = if ok {
+                [g[0] * inv, g[1] * inv, g[2] * inv]
             } else {
-                nn
+                v
             };
-            hemi[j] = 0.5 + 0.5 * nn[2] as f32;
-            kd[j] = dot(nn, key).max(0.0) as f32;
-            fd[j] = dot(nn, fill).max(0.0) as f32;
-            rd[j] = dot(nn, rim).max(0.0) as f32;
-            sx[j] = dot(nn, [half[0][j], half[1][j], half[2][j]]).max(0.0) as f32;
+            let flip = if dot_f32(nn, v) < 0.0 { -1.0 } else { 1.0 };
+            let nn = [nn[0] * flip, nn[1] * flip, nn[2] * flip];
+            hemi[j] = 0.5 + 0.5 * nn[2];
+            kd[j] = dot_f32(nn, key).max(0.0);
+            fd[j] = dot_f32(nn, fill).max(0.0);
+            rd[j] = dot_f32(nn, rim).max(0.0);
+            sx[j] = dot_f32(nn, [half[0][j], half[1][j], half[2][j]]).max(0.0);
         }
         // Blinn–Phong: whole exponents (the default 40) by multiplication.
         let mut spec = match self.whole_shininess {
@@ -713,6 +730,24 @@ impl ShadeLanes {
             albedo: base.map(|b| [b; SPAN]),
             aof: [1.0; SPAN],
         }
+    }
+}
+
+#[inline(always)]
+fn dot_f32(a: [f32; 3], b: [f32; 3]) -> f32 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// `a` scaled to unit length (`a` itself where that has none), in `f32`.
+#[inline(always)]
+fn unit3_f32(a: [f32; 3]) -> [f32; 3] {
+    let l = dot_f32(a, a).sqrt();
+    let ok = (l > 0.0) & (l < f32::INFINITY);
+    let inv = 1.0 / l;
+    if ok {
+        [a[0] * inv, a[1] * inv, a[2] * inv]
+    } else {
+        a
     }
 }
 
