@@ -895,6 +895,37 @@ mod tests {
         assert!(lum(p) > 100);
     }
 
+    /// A normal's length does not matter, from subnormal sizes to the
+    /// largest finite ones: scaled by a power of two, the image is that of
+    /// the unit normals, byte for byte (with subnormal components, which
+    /// hold fewer bits of the direction, within one level); infinite ones
+    /// are unusable (lit as facing the viewer).
+    #[test]
+    fn normals_of_any_size_shade_alike() {
+        let b = Aabb::new([-1.0; 3], [1.0; 3]);
+        let cam = Camera::orbit(&b, 30.0, 20.0, Some(35.0));
+        let hits = sphere_hits(&cam, 24, 24, [0.1, 0.0, 0.0], 0.8, None);
+        let with = |f: &dyn Fn([f64; 3]) -> [f64; 3]| {
+            let mut h = hits.clone();
+            for h in h.hits.iter_mut().flatten() {
+                h.normal = f(h.normal);
+            }
+            shade(&h, &Lighting::default()).rgba
+        };
+        let unit = with(&|n| n);
+        let most = |a: &[u8], b: &[u8]| a.iter().zip(b).map(|(x, y)| x.abs_diff(*y)).max();
+        for e in [-1060, -1000, -140, 1, 100, 1023] {
+            let s = 2f64.powi(e);
+            let img = with(&|n| n.map(|c| c * s));
+            let within = if e < -1020 { 1 } else { 0 };
+            assert!(most(&img, &unit) <= Some(within), "2^{e}");
+        }
+        let bad = with(&|_| [f64::NAN; 3]);
+        assert_ne!(bad, unit);
+        assert_eq!(with(&|_| [f64::INFINITY, 0.0, 1.0]), bad);
+        assert_eq!(with(&|_| [0.0; 3]), bad);
+    }
+
     /// A row shaded in one call gives every pixel the bytes it gets alone,
     /// whatever its neighbours in the pass (hits, misses, colours, occlusion,
     /// unusable and back-facing normals; both projections).
