@@ -1707,7 +1707,7 @@ fn entry_face(b: &Aabb, p: &[f64; 3]) -> Option<[f64; 3]> {
 }
 
 /// How many rays of a row [`set_up_rays`] computes in one pass.
-const SETUP_LANES: usize = 8;
+const SETUP_LANES: usize = 16;
 
 /// Sizes `sc.rays`, `sc.z0s` and `sc.z1s` for the tile and fills them with
 /// its rays (`rm`, of `cam`), row by row: each ray's [`per_dir`] terms and
