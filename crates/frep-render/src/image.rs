@@ -590,38 +590,6 @@ impl Shader {
         let ShadeLanes { n, p, albedo, aof } = lanes;
         let f32s = |v: [f64; 3]| v.map(|c| c as f32);
         let (key, fill, rim) = (f32s(self.key), f32s(self.fill), f32s(self.rim));
-        // The direction back along each pixel's ray and the key light's
-        // half vector (the same for every pixel of an orthographic view).
-        let mut view = [[0.0f32; SPAN]; 3];
-        let mut half = [[0.0f32; SPAN]; 3];
-        match self.ortho {
-            Some((v, hv)) => {
-                for k in 0..3 {
-                    view[k] = [v[k] as f32; SPAN];
-                    half[k] = [hv[k] as f32; SPAN];
-                }
-            }
-            None => {
-                let (eye, back) = (cam.eye, scale(cam.forward, -1.0));
-                for j in 0..SPAN {
-                    let v = normalize3([eye[0] - p[0][j], eye[1] - p[1][j], eye[2] - p[2][j]]);
-                    let ok = v.iter().all(|c| c.is_finite()) && dot(v, v) > 0.5;
-                    let v = f32s(if ok { v } else { back });
-                    let hv = unit3_f32([key[0] + v[0], key[1] + v[1], key[2] + v[2]]);
-                    for k in 0..3 {
-                        view[k][j] = v[k];
-                        half[k][j] = hv[k];
-                    }
-                }
-            }
-        }
-        // The unit normal facing the viewer (the view direction where the
-        // normal is unusable), and the light terms.
-        let mut hemi = [0.0f32; SPAN];
-        let mut kd = [0.0f32; SPAN];
-        let mut fd = [0.0f32; SPAN];
-        let mut rd = [0.0f32; SPAN];
-        let mut sx = [0.0f32; SPAN];
         // The normals scaled by a power of two (exact) so that their
         // largest component is about 1, then rounded to `f32`: normals of
         // any finite size keep their direction. (A pass of its own: the
@@ -636,25 +604,37 @@ impl Shader {
                 nf[k][j] = (g[k] * s) as f32;
             }
         }
-        for j in 0..SPAN {
-            let g = [nf[0][j], nf[1][j], nf[2][j]];
-            let l2 = dot_f32(g, g);
-            let ok = (l2 > 0.0) & (l2 < f32::INFINITY);
-            let inv = 1.0 / l2.sqrt();
-            let v = [view[0][j], view[1][j], view[2][j]];
-            let nn = if ok {
-                [g[0] * inv, g[1] * inv, g[2] * inv]
-            } else {
-                v
-            };
-            let flip = if dot_f32(nn, v) < 0.0 { -1.0 } else { 1.0 };
-            let nn = [nn[0] * flip, nn[1] * flip, nn[2] * flip];
-            hemi[j] = 0.5 + 0.5 * nn[2];
-            kd[j] = dot_f32(nn, key).max(0.0);
-            fd[j] = dot_f32(nn, fill).max(0.0);
-            rd[j] = dot_f32(nn, rim).max(0.0);
-            sx[j] = dot_f32(nn, [half[0][j], half[1][j], half[2][j]]).max(0.0);
-        }
+        // The direction back along each pixel's ray and the key light's
+        // half vector: the same for every pixel of an orthographic view (no
+        // arrays of them then).
+        let lights = (key, fill, rim);
+        let [hemi, kd, fd, rd, sx] = match self.ortho {
+            Some((v, hv)) => {
+                let (v, hv) = (f32s(v), f32s(hv));
+                light_terms(&nf, lights, |_| (v, hv))
+            }
+            None => {
+                let mut view = [[0.0f32; SPAN]; 3];
+                let mut half = [[0.0f32; SPAN]; 3];
+                let (eye, back) = (cam.eye, scale(cam.forward, -1.0));
+                for j in 0..SPAN {
+                    let v = normalize3([eye[0] - p[0][j], eye[1] - p[1][j], eye[2] - p[2][j]]);
+                    let ok = v.iter().all(|c| c.is_finite()) && dot(v, v) > 0.5;
+                    let v = f32s(if ok { v } else { back });
+                    let hv = unit3_f32([key[0] + v[0], key[1] + v[1], key[2] + v[2]]);
+                    for k in 0..3 {
+                        view[k][j] = v[k];
+                        half[k][j] = hv[k];
+                    }
+                }
+                light_terms(&nf, lights, |j| {
+                    (
+                        [view[0][j], view[1][j], view[2][j]],
+                        [half[0][j], half[1][j], half[2][j]],
+                    )
+                })
+            }
+        };
         // Blinn–Phong: whole exponents (the default 40) by multiplication.
         let mut spec = match self.whole_shininess {
             Some(e) => powi_lanes(sx, e),
@@ -731,6 +711,40 @@ impl ShadeLanes {
             aof: [1.0; SPAN],
         }
     }
+}
+
+/// Per lane of normals `nf` (any length; unusable ones give way to the
+/// view direction), with `vh(j)` the direction back to the eye and the key
+/// light's half vector at lane `j`: the unit normal facing the viewer, and
+/// from it the hemisphere blend, the key, fill and rim lights' diffuse terms
+/// and the key light's specular base.
+#[inline(always)]
+fn light_terms(
+    nf: &[[f32; SPAN]; 3],
+    (key, fill, rim): ([f32; 3], [f32; 3], [f32; 3]),
+    vh: impl Fn(usize) -> ([f32; 3], [f32; 3]),
+) -> [[f32; SPAN]; 5] {
+    let mut t = [[0.0f32; SPAN]; 5];
+    for j in 0..SPAN {
+        let g = [nf[0][j], nf[1][j], nf[2][j]];
+        let l2 = dot_f32(g, g);
+        let ok = (l2 > 0.0) & (l2 < f32::INFINITY);
+        let inv = 1.0 / l2.sqrt();
+        let (v, half) = vh(j);
+        let nn = if ok {
+            [g[0] * inv, g[1] * inv, g[2] * inv]
+        } else {
+            v
+        };
+        let flip = if dot_f32(nn, v) < 0.0 { -1.0 } else { 1.0 };
+        let nn = [nn[0] * flip, nn[1] * flip, nn[2] * flip];
+        t[0][j] = 0.5 + 0.5 * nn[2];
+        t[1][j] = dot_f32(nn, key).max(0.0);
+        t[2][j] = dot_f32(nn, fill).max(0.0);
+        t[3][j] = dot_f32(nn, rim).max(0.0);
+        t[4][j] = dot_f32(nn, half).max(0.0);
+    }
+    t
 }
 
 #[inline(always)]
