@@ -354,31 +354,26 @@ impl ModelCaster {
     /// its rays is set up. The box holds every box the tile's root node
     /// would evaluate, so nothing that node would find is skipped.
     fn tile_outside(&self, camera: &Camera, rm: &RayMaker, tile: &Tile, sc: &mut Scratch) -> bool {
+        self.tile_box(camera, rm, tile)
+            .is_none_or(|bx| self.outside_in(&bx, sc))
+    }
+
+    /// A box holding the parts of `tile`'s rays (`rm`, of `camera`) inside
+    /// the model box; `None` where they miss it.
+    fn tile_box(&self, camera: &Camera, rm: &RayMaker, tile: &Tile) -> Option<Aabb> {
         let b = &self.bounds;
-        // Depth is the distance along the viewing direction from the eye
-        // (orthographic rays start on the eye's plane): the box's corners
-        // bound it.
-        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-        for j in 0..8 {
-            let p = std::array::from_fn(|a| {
-                if (j >> a) & 1 == 0 {
-                    b.min[a]
-                } else {
-                    b.max[a]
-                }
-            });
-            let z = dot(sub(p, camera.eye), camera.forward);
-            lo = lo.min(z);
-            hi = hi.max(z);
-        }
+        let (lo, hi) = depth_range(b, camera);
         let lo = lo.max(0.0);
         if lo > hi || hi.is_nan() {
-            return true;
+            return None;
         }
         let k = Corners::of(rm, tile.x0, tile.y0, tile.x1, tile.y1);
-        let Some(bx) = clip_box(&k.aabb(lo, hi), b) else {
-            return true;
-        };
+        clip_box(&k.aabb(lo, hi), b)
+    }
+
+    /// Whether the model is outside the solid throughout `bx` (by the
+    /// interval evaluator of the whole tape).
+    fn outside_in(&self, bx: &Aabb, sc: &mut Scratch) -> bool {
         sc.evals[0]
             .interval
             .eval(
@@ -388,6 +383,51 @@ impl ModelCaster {
                 &self.inputs,
             )
             .is_outside()
+    }
+
+    /// Whether a ray of the tile whose rays inside the model box lie in
+    /// `bx` ([`ModelCaster::tile_box`]) may be inside the solid where it
+    /// enters the box: `false` where the model is outside throughout the
+    /// part of `bx` on each face of the box that such rays can enter by
+    /// (a face whose plane has the eye, or in an orthographic view the
+    /// rays' start, on its outer side). `true` where rays may start inside
+    /// the box (its nearest corner is not in front of the eye).
+    /// (Each face's check is counted in `stats`.)
+    fn may_hold_at_entry(
+        &self,
+        camera: &Camera,
+        bx: &Aabb,
+        sc: &mut Scratch,
+        stats: &mut CastStats,
+    ) -> bool {
+        let b = &self.bounds;
+        if depth_range(b, camera).0 <= 0.0 {
+            return true;
+        }
+        let ortho = matches!(camera.projection, Projection::Orthographic { .. });
+        for a in 0..3 {
+            for (face, low) in [(b.min[a], true), (b.max[a], false)] {
+                // Rays enter by the face at `b.min[a]` going up axis `a`.
+                let enters = match (ortho, low) {
+                    (true, true) => camera.forward[a] > 0.0,
+                    (true, false) => camera.forward[a] < 0.0,
+                    (false, true) => camera.eye[a] < face,
+                    (false, false) => camera.eye[a] > face,
+                };
+                // (`bx` is within the model box: no ray of the tile enters
+                // by a face it does not reach.)
+                if !enters || face < bx.min[a] || face > bx.max[a] {
+                    continue;
+                }
+                let mut f = *bx;
+                (f.min[a], f.max[a]) = (face, face);
+                stats.interval_evals += 1;
+                if !self.outside_in(&f, sc) {
+                    return true;
+                }
+            }
+        }
+        false
     }
 
     fn cancelled(&self) -> bool {
@@ -518,7 +558,10 @@ impl ModelCaster {
         for row in rows.iter_mut() {
             row.fill(255);
         }
-        if self.tile_outside(camera, &rm, tile, sc) {
+        let bx = self
+            .tile_box(camera, &rm, tile)
+            .filter(|bx| !self.outside_in(bx, sc));
+        let Some(bx) = bx else {
             stats.empty_tiles += 1;
             for (row, y) in rows.iter_mut().zip(tile.y0..) {
                 let bg = shader.background(y);
@@ -527,7 +570,10 @@ impl ModelCaster {
                 }
             }
             return true;
-        }
+        };
+        // Whether any ray may hit where it enters the box (else that
+        // candidate is not checked).
+        let entry = self.may_hold_at_entry(camera, &bx, sc, stats);
         let forward = camera.forward;
         let fixed = matches!(camera.projection, Projection::Orthographic { .. })
             .then(|| per_dir(forward, forward));
@@ -545,7 +591,7 @@ impl ModelCaster {
                 let len = ((tile.x1 - x) as usize).min(BLOCK);
                 if n + len > BLOCK {
                     ok = self.closed_form_block(
-                        csg,
+                        (csg, entry),
                         tile,
                         shader,
                         rows,
@@ -590,7 +636,7 @@ impl ModelCaster {
         }
         if ok && n > 0 {
             ok = self.closed_form_block(
-                csg,
+                (csg, entry),
                 tile,
                 shader,
                 rows,
@@ -610,7 +656,7 @@ impl ModelCaster {
     #[allow(clippy::too_many_arguments, clippy::needless_range_loop)]
     fn closed_form_block(
         &self,
-        csg: &Csg,
+        (csg, entry): (&Csg, bool),
         tile: &Tile,
         shader: &Shader,
         rows: &mut [&mut [u8]],
@@ -620,7 +666,7 @@ impl ModelCaster {
         shade: &mut ShadeLanes,
         stats: &mut CastStats,
     ) -> bool {
-        csg.solve(lanes, n, work, solved);
+        csg.solve(lanes, n, work, solved, entry);
         let mut live = 0u64;
         for k in 0..n {
             live |= u64::from(lanes.z0[k] <= lanes.z1[k]) << k;
@@ -1858,6 +1904,26 @@ fn ray_lanes(
     }
 }
 
+/// The least and greatest depth (distance along the viewing direction
+/// from the eye; orthographic rays start on the eye's plane) of the
+/// corners of box `b`, which bound its points'.
+fn depth_range(b: &Aabb, camera: &Camera) -> (f64, f64) {
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for j in 0..8 {
+        let p = std::array::from_fn(|a| {
+            if (j >> a) & 1 == 0 {
+                b.min[a]
+            } else {
+                b.max[a]
+            }
+        });
+        let z = dot(sub(p, camera.eye), camera.forward);
+        lo = lo.min(z);
+        hi = hi.max(z);
+    }
+    (lo, hi)
+}
+
 fn clip_box(b: &Aabb, bounds: &Aabb) -> Option<Aabb> {
     let mut min = [0.0; 3];
     let mut max = [0.0; 3];
@@ -1990,13 +2056,13 @@ impl<'a> TileCtx<'a> {
             idx[n] = i;
             n += 1;
             if n == BLOCK {
-                csg.solve(lanes, n, work, solved);
+                csg.solve(lanes, n, work, solved, true);
                 self.take_solved(solved, &idx[..n]);
                 n = 0;
             }
         }
         if n > 0 {
-            csg.solve(lanes, n, work, solved);
+            csg.solve(lanes, n, work, solved, true);
             self.take_solved(solved, &idx[..n]);
         }
         self.sc.closed_form = Some(cf);

@@ -257,10 +257,12 @@ impl Csg {
     }
 
     /// Solves the first `n` lanes of `l` (see the module docs), with `w`
-    /// for its working arrays.
+    /// for its working arrays. `entry`: whether to check the rays' entry
+    /// into the box as a hit (callers that know the model is outside the
+    /// solid wherever these rays enter it skip that).
     // (The lane passes index several arrays at once.)
     #[allow(clippy::needless_range_loop)]
-    pub(super) fn solve(&self, l: &Lanes, n: usize, w: &mut Work, s: &mut Solved) {
+    pub(super) fn solve(&self, l: &Lanes, n: usize, w: &mut Work, s: &mut Solved, entry: bool) {
         const B: usize = BLOCK;
         let nl = self.leaves.len();
         // Per leaf, the polynomial along each ray `α z² + β z + γ`, the
@@ -290,7 +292,7 @@ impl Csg {
         // Candidates: the entry (`z0`), then the crossings that may start
         // the solid. After each, the leaves' signs give whether the solid
         // holds the ray there.
-        for cand in 0..=self.cands.len() {
+        for cand in usize::from(!entry)..=self.cands.len() {
             let (own, enter) = match cand {
                 0 => (None, false),
                 c => {
@@ -756,7 +758,7 @@ mod tests {
         let mut l = Lanes::default();
         (l.o[2][0], l.d[2][0], l.z0[0], l.z1[0]) = (2.0, -1.0, 0.0, 4.0);
         let mut s = Solved::default();
-        deep.solve(&l, 1, &mut Work::default(), &mut s);
+        deep.solve(&l, 1, &mut Work::default(), &mut s, true);
         assert_eq!((s.sure, s.z[0]), (1, 2.0 - 0.5f64.sqrt()));
         assert!(csg(&chain(MAX_OPS + 1)).is_none());
     }
@@ -786,7 +788,7 @@ mod tests {
             (l.z0[k], l.z1[k]) = (z0, 4.0);
         }
         let mut s = Solved::default();
-        c.solve(&l, rays.len(), &mut Work::default(), &mut s);
+        c.solve(&l, rays.len(), &mut Work::default(), &mut s, true);
         assert_eq!(s.sure, 0b1111, "{:b}", s.sure);
         // (The compiler orders a commutative operation's operands: the
         // leaves' order is the tape's.)
@@ -825,7 +827,7 @@ mod tests {
         let mut l = Lanes::default();
         (l.o[1][0], l.d[1][0], l.z0[0], l.z1[0]) = (-2.0, 1.0, 0.0, 4.0);
         let mut s = Solved::default();
-        c.solve(&l, 1, &mut Work::default(), &mut s);
+        c.solve(&l, 1, &mut Work::default(), &mut s, true);
         assert_eq!(s.sure, 1);
         assert!((s.z[0] - (2.0 - 0.2f64.sqrt())).abs() < 1e-14, "{}", s.z[0]);
         assert_eq!(s.leaf[0], 2);
