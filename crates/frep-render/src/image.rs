@@ -361,6 +361,8 @@ impl SrgbTable {
     /// which changes no byte (every threshold is positive, and the last is
     /// at most 1); NaN becomes 0 (`max` takes the number), byte 0, as
     /// `to_byte` gives.
+    // (Not `clamp`, which keeps NaN.)
+    #[allow(clippy::manual_clamp)]
     #[inline(always)]
     fn byte(&self, c: f32) -> u8 {
         let q = c.max(0.0).min(1.0);
