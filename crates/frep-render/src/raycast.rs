@@ -583,6 +583,7 @@ impl ModelCaster {
         // The block's runs of pixels: (row, first column, first lane,
         // length).
         let mut runs = [(0u32, 0u32, 0usize, 0usize); BLOCK];
+        let r = &mut RayLanes::default();
         let (mut nruns, mut n) = (0, 0);
         let mut ok = true;
         'rows: for py in tile.y0..tile.y1 {
@@ -608,7 +609,7 @@ impl ModelCaster {
                 }
                 let mut j = 0;
                 while j < len {
-                    let r = ray_lanes(&self.bounds, forward, fixed, &rm, x + j as u32, py);
+                    ray_lanes(&self.bounds, forward, fixed, &rm, (x + j as u32, py), r);
                     let (k, m) = (n + j, L.min(len - j));
                     if m == L {
                         // (A copy of known length: no call.)
@@ -1781,10 +1782,12 @@ fn set_up_rays(
     sc.z1s.resize(n, 0.0);
     let (rays, z0s, z1s) = (&mut sc.rays[..n], &mut sc.z0s[..n], &mut sc.z1s[..n]);
     let mut k = 0;
+    let mut r = RayLanes::default();
     for py in tile.y0..tile.y1 {
         let mut x = tile.x0;
         while x < tile.x1 {
             let n = ((tile.x1 - x) as usize).min(L);
+            ray_lanes(bounds, forward, fixed, &rm, (x, py), &mut r);
             let RayLanes {
                 o,
                 d,
@@ -1792,7 +1795,7 @@ fn set_up_rays(
                 c,
                 z0,
                 z1,
-            } = ray_lanes(bounds, forward, fixed, &rm, x, py);
+            } = &r;
             for j in 0..n {
                 let live = z0[j] <= z1[j];
                 let (rz0, rz1) = if live { (z0[j], z1[j]) } else { (0.0, 0.0) };
@@ -1818,6 +1821,7 @@ fn set_up_rays(
 /// [`SETUP_LANES`] rays of a row ([`ray_lanes`]): origins, directions, the
 /// [`per_dir`] terms, and the depths `z0 ≤ z1` of the ray's part in the
 /// model box (`[+∞, −∞]` where it misses the box).
+#[derive(Default)]
 struct RayLanes {
     o: [[f64; SETUP_LANES]; 3],
     d: [[f64; SETUP_LANES]; 3],
@@ -1830,26 +1834,31 @@ struct RayLanes {
 /// The rays of pixels `x..x + SETUP_LANES` of row `py` (`rm`, of a camera
 /// looking along `forward`; `fixed`: the [`per_dir`] terms all rays share,
 /// in an orthographic view) clipped to `bounds`, in passes over arrays
-/// (which vectorise): what [`set_up_rays`] sets up.
+/// (which vectorise), into `out` (written in place: no copy of the
+/// arrays): what [`set_up_rays`] sets up.
 #[inline(always)]
 fn ray_lanes(
     bounds: &Aabb,
     forward: [f64; 3],
     fixed: Option<(f64, [f64; 3], [f64; 3])>,
     rm: &RayMaker,
-    x: u32,
-    py: u32,
-) -> RayLanes {
+    (x, py): (u32, u32),
+    out: &mut RayLanes,
+) {
     const L: usize = SETUP_LANES;
-    let mut o = [[0.0f64; L]; 3];
-    let mut d = [[0.0f64; L]; 3];
-    rm.row_lanes(x, py, &mut o, &mut d);
-    let mut c = [0.0f64; L];
-    let mut dz = [[0.0f64; L]; 3];
+    let RayLanes {
+        o,
+        d,
+        dz,
+        c,
+        z0,
+        z1,
+    } = out;
+    rm.row_lanes(x, py, o, d);
     let mut inv = [[0.0f64; L]; 3];
     match fixed {
         Some((fc, fdz, finv)) => {
-            c = [fc; L];
+            *c = [fc; L];
             for a in 0..3 {
                 dz[a] = [fdz[a]; L];
                 inv[a] = [finv[a]; L];
@@ -1884,7 +1893,6 @@ fn ray_lanes(
         }
     }
     // The depths (`t·c`; a miss `[+∞, −∞]`).
-    let (mut z0, mut z1) = ([0.0; L], [0.0; L]);
     for j in 0..L {
         let live = t0[j] <= t1[j];
         z0[j] = if live { t0[j] * c[j] } else { f64::INFINITY };
@@ -1893,14 +1901,6 @@ fn ray_lanes(
         } else {
             f64::NEG_INFINITY
         };
-    }
-    RayLanes {
-        o,
-        d,
-        dz,
-        c,
-        z0,
-        z1,
     }
 }
 
