@@ -518,7 +518,9 @@ impl ModelCaster {
     /// colours and no ambient occlusion are due. Returns `false`, leaving
     /// the tile to the general caster (its rows then partly written), where
     /// a ray fails a check of [`Csg::solve`], is inside the solid at the
-    /// eye, or the render was cancelled.
+    /// eye, or the render was cancelled. The rays' entry into the model box
+    /// is tried as a hit only where [`ModelCaster::may_hold_at_entry`]
+    /// cannot rule it out.
     fn closed_form_tile(
         &self,
         csg: &Csg,

@@ -16,7 +16,9 @@
 //! interval evaluation, no samples, no search. The tile's rays are solved
 //! in blocks of [`BLOCK`], every step a loop over the block (which
 //! vectorises) and the set expression evaluated on bit masks of the whole
-//! block at once.
+//! block at once. (The entry is not checked where the caller has shown,
+//! by intervals over the box faces the rays enter by, that the model is
+//! outside there.)
 //!
 //! Every result is checked the way the exact slabs of the general caster
 //! are: each leaf's value at each crossing that counts must be clear of
@@ -289,9 +291,9 @@ impl Csg {
         for k in 0..n {
             live |= u64::from(l.z0[k] <= l.z1[k]) << k;
         }
-        // Candidates: the entry (`z0`), then the crossings that may start
-        // the solid. After each, the leaves' signs give whether the solid
-        // holds the ray there.
+        // Candidates: the entry (`z0`; unless `entry` is off), then the
+        // crossings that may start the solid. After each, the leaves' signs
+        // give whether the solid holds the ray there.
         for cand in usize::from(!entry)..=self.cands.len() {
             let (own, enter) = match cand {
                 0 => (None, false),
