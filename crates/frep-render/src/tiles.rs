@@ -83,21 +83,24 @@ pub fn tile_rows<'a, T>(
     let Some(first) = tiles.first() else {
         return out;
     };
-    let size = first.w().max(first.h()) as usize;
-    let across = width.div_ceil(size.max(1));
+    let size = first.w().max(first.h()).max(1) as usize;
+    let across = width.div_ceil(size);
+    let rows = buf.len() / (width * per_px).max(1);
+    // The cut, checked once per tile (not per row).
+    assert!(
+        tiles.len() == rows.div_ceil(size) * across
+            && tiles.iter().enumerate().all(|(i, t)| {
+                let (x0, y0) = (i % across * size, i / across * size);
+                (t.x0 as usize, t.y0 as usize) == (x0, y0)
+                    && t.x1 as usize == (x0 + size).min(width)
+                    && t.y1 as usize == (y0 + size).min(rows)
+            }),
+        "tile_rows: tiles not cut row by row"
+    );
     for (y, row) in buf.chunks_exact_mut(width * per_px).enumerate() {
-        let band = y / size.max(1);
-        let mut rest = row;
-        for c in 0..across {
-            let i = band * across + c;
-            let t = &tiles[i];
-            assert!(
-                t.y0 as usize <= y && y < t.y1 as usize && t.x0 as usize == c * size,
-                "tile_rows: tiles not cut row by row"
-            );
-            let (seg, r) = std::mem::take(&mut rest).split_at_mut(t.w() as usize * per_px);
-            out[i].push(seg);
-            rest = r;
+        let band = &mut out[y / size * across..][..across];
+        for (tile, seg) in band.iter_mut().zip(row.chunks_mut(size * per_px)) {
+            tile.push(seg);
         }
     }
     out
@@ -218,6 +221,25 @@ mod tests {
         assert_eq!(area, 70 * 33);
         assert_eq!(ts.last().unwrap().x1, 70);
         assert_eq!(ts.last().unwrap().y1, 33);
+    }
+
+    /// Tiles that are not [`tiles`]' cut of the buffer are refused.
+    #[test]
+    fn tile_rows_refuses_other_cuts() {
+        let mut buf = vec![0u8; 70 * 33];
+        for ts in [
+            tiles(70, 33, 8),
+            tiles(70, 32, 16),
+            tiles(69, 33, 16),
+            tiles(70, 33, 16).into_iter().rev().collect(),
+            tiles(70, 33, 16)[1..].to_vec(),
+        ] {
+            let cut = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                tile_rows(&mut buf, 35, 2, &ts).len()
+            }));
+            assert!(cut.is_err(), "{} tiles", ts.len());
+        }
+        assert_eq!(tile_rows(&mut buf, 35, 2, &tiles(35, 33, 16)).len(), 9);
     }
 
     #[test]
