@@ -533,15 +533,14 @@ impl Shader {
             aof: [1.0f32; SPAN],
         };
         let ShadeLanes { n, p, albedo, aof } = &mut lanes;
-        let mut hit = [false; SPAN];
-        let mut any = false;
+        // Bit `j`: pixel `j` hit.
+        let mut hit = 0u32;
         // Positions only matter to perspective views.
-        let persp = self.ortho.is_none();
+        let persp = self.needs_positions();
         let mut last = ([f32::NAN; 3], [0.0f32; 3]);
         for (j, h) in hits.iter().enumerate() {
             let Some(h) = h else { continue };
-            any = true;
-            hit[j] = true;
+            hit |= 1 << j;
             for (n, v) in n.iter_mut().zip(h.normal) {
                 n[j] = v;
             }
@@ -567,26 +566,26 @@ impl Shader {
                 aof[j] = 1.0 - lighting.ao_strength * (1.0 - ao[j].clamp(0.0, 1.0));
             }
         }
-        if !any {
+        if hit == 0 {
             for px in rgba.chunks_exact_mut(4) {
                 px[..3].copy_from_slice(&bg);
             }
             return;
         }
-        self.shade_lanes(bg, &lanes, &hit[..m], rgba);
+        self.shade_lanes(bg, &lanes, hit, rgba);
     }
 
-    /// Shades up to [`SPAN`] pixels given as arrays: pixel `j` (`hit[j]`;
-    /// else the background `bg`) with `lanes`' values at `j` gives the RGB
-    /// bytes `rgba[4j..4j + 3]`. What [`Shader::span`] does once it has
-    /// gathered its hits.
-    pub(crate) fn shade_lanes(
-        &self,
-        bg: [u8; 3],
-        lanes: &ShadeLanes,
-        hit: &[bool],
-        rgba: &mut [u8],
-    ) {
+    /// Whether shading reads the hits' positions ([`ShadeLanes::p`]): in
+    /// perspective views only.
+    pub(crate) fn needs_positions(&self) -> bool {
+        self.ortho.is_none()
+    }
+
+    /// Shades up to [`SPAN`] pixels given as arrays: pixel `j` (bit `j` of
+    /// `hit`; else the background `bg`) with `lanes`' values at `j` gives
+    /// the RGB bytes `rgba[4j..4j + 3]`, for the pixels `rgba` holds. What
+    /// [`Shader::span`] does once it has gathered its hits.
+    pub(crate) fn shade_lanes(&self, bg: [u8; 3], lanes: &ShadeLanes, hit: u32, rgba: &mut [u8]) {
         let lighting = &self.lighting;
         let cam = &self.camera;
         let ShadeLanes { n, p, albedo, aof } = lanes;
@@ -678,8 +677,8 @@ impl Shader {
                 }
             }
         }
-        for (j, (&h, px)) in hit.iter().zip(rgba.chunks_exact_mut(4)).enumerate() {
-            if !h {
+        for (j, px) in rgba.chunks_exact_mut(4).enumerate() {
+            if (hit >> j) & 1 == 0 {
                 px[..3].copy_from_slice(&bg);
             } else {
                 px[..3].copy_from_slice(&[bytes[0][j], bytes[1][j], bytes[2][j]]);

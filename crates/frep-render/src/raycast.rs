@@ -696,7 +696,8 @@ impl ModelCaster {
                 None => return false,
             }
         }
-        let mut hit = [false; SPAN];
+        // Positions are read in perspective views only.
+        let persp = shader.needs_positions();
         for &(py, x, first, len) in runs {
             let row = &mut rows[(py - tile.y0) as usize];
             let bg = shader.background(py);
@@ -704,12 +705,8 @@ impl ModelCaster {
             while c < len {
                 let (m, k) = ((len - c).min(SPAN), first + c);
                 let o = 4 * (x - tile.x0) as usize + 4 * c;
-                let mut any = false;
-                for j in 0..m {
-                    hit[j] = solved.z[k + j] < f64::INFINITY;
-                    any |= hit[j];
-                }
-                if !any {
+                let hit = ((solved.hit >> k) & (u64::MAX >> (64 - m))) as u32;
+                if hit == 0 {
                     for px in row[o..o + 4 * m].chunks_exact_mut(4) {
                         px[..3].copy_from_slice(&bg);
                     }
@@ -720,15 +717,19 @@ impl ModelCaster {
                     // (A copy of known length: no call.)
                     for a in 0..3 {
                         shade.n[a].copy_from_slice(&solved.n[a][k..k + SPAN]);
-                        shade.p[a].copy_from_slice(&solved.p[a][k..k + SPAN]);
+                        if persp {
+                            shade.p[a].copy_from_slice(&solved.p[a][k..k + SPAN]);
+                        }
                     }
                 } else {
                     for a in 0..3 {
                         shade.n[a][..m].copy_from_slice(&solved.n[a][k..k + m]);
-                        shade.p[a][..m].copy_from_slice(&solved.p[a][k..k + m]);
+                        if persp {
+                            shade.p[a][..m].copy_from_slice(&solved.p[a][k..k + m]);
+                        }
                     }
                 }
-                shader.shade_lanes(bg, shade, &hit[..m], &mut row[o..o + 4 * m]);
+                shader.shade_lanes(bg, shade, hit, &mut row[o..o + 4 * m]);
                 c += m;
             }
         }

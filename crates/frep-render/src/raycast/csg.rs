@@ -132,6 +132,8 @@ impl Default for Lanes {
 pub(super) struct Solved {
     /// Whether the lane's outcome stands (else the general caster's).
     pub sure: u64,
+    /// Whether the lane has a hit (`z < +∞`).
+    pub hit: u64,
     /// The hit's depth (`+∞`: the ray misses).
     pub z: [f64; BLOCK],
     /// The leaf crossed at the hit, or [`ENTRY`].
@@ -146,6 +148,7 @@ impl Default for Solved {
     fn default() -> Solved {
         Solved {
             sure: 0,
+            hit: 0,
             z: [f64::INFINITY; BLOCK],
             leaf: [ENTRY; BLOCK],
             p: [[0.0; BLOCK]; 3],
@@ -412,6 +415,7 @@ impl Csg {
         // A leaf's hit needs a normal; an entry hit's comes from the box.
         let normal_ok = !hit | entry | finite;
         s.sure = live & !bad & !grazing & normal_ok;
+        s.hit = hit;
     }
 }
 
