@@ -581,6 +581,8 @@ impl ModelCaster {
             .then(|| per_dir(forward, forward));
         let mut cf = sc.closed_form.take().unwrap_or_default();
         let (lanes, work, solved) = &mut *cf;
+        // (Every ray of an orthographic view has the camera's direction.)
+        lanes.dir = fixed.map(|(_, dz, _)| dz);
         let mut shade = ShadeLanes::plain(shader.base());
         // The block's runs of pixels: (row, first column, first lane,
         // length).
@@ -2043,6 +2045,9 @@ impl<'a> TileCtx<'a> {
     fn closed_form(&mut self, csg: &Csg) {
         let mut cf = self.sc.closed_form.take().unwrap_or_default();
         let (lanes, work, solved) = &mut *cf;
+        // (Each lane's own direction: the arrays may come from a view
+        // whose rays shared one.)
+        lanes.dir = None;
         let mut idx = [0usize; BLOCK];
         let mut n = 0;
         for i in 0..self.sc.rays.len() {

@@ -1439,6 +1439,40 @@ fn closed_form_tiles_with_rays_starting_in_the_box() {
     }
 }
 
+/// One caster serves views one after another (its working arrays kept
+/// from one to the next): an orthographic render, whose rays share a
+/// direction, leaves nothing behind for the perspective views after it,
+/// per-ray closed form (`cast_tiled`) or fused tiles (`render_with`).
+#[test]
+fn a_caster_carries_nothing_from_view_to_view() {
+    let src = example("semi_sphere.hf");
+    let model = Model::compile(&src).unwrap();
+    let b = bounds_of(&src);
+    let top = RenderSettings {
+        yaw: 0.0,
+        pitch: 90.0,
+        fov: None,
+        ..settings(b, 64, 64)
+    };
+    let turn = RenderSettings {
+        yaw: 30.0,
+        pitch: 20.0,
+        fov: Some(30.0),
+        ..settings(b, 64, 64)
+    };
+    let shared = ModelCaster::new(&model, Inputs::default(), b);
+    let fresh = || ModelCaster::new(&model, Inputs::default(), b);
+    for (first, then) in [(&top, &turn), (&turn, &top)] {
+        let _ = frep_render::render_with(&shared, first, &first.camera(), None).unwrap();
+        let cam = then.camera();
+        let hits = cast_tiled(&shared, &cam, 64, 64, 16);
+        assert_eq!(hits.hits, cast_tiled(&fresh(), &cam, 64, 64, 16).hits);
+        let img = frep_render::render_with(&shared, then, &cam, None).unwrap();
+        let want = frep_render::render_with(&fresh(), then, &cam, None).unwrap();
+        assert_eq!(img.rgba, want.rgba);
+    }
+}
+
 /// Random set expressions over quadrics (a fixed seed): 2 to 6 leaves —
 /// spheres, axis-aligned cylinders, tilted ellipsoids with cross terms,
 /// planes — joined by `&`, `|`, `\`, `min` and `max`, some negated, each

@@ -115,6 +115,10 @@ pub(super) struct Lanes {
     pub d: [[f64; BLOCK]; 3],
     pub z0: [f64; BLOCK],
     pub z1: [f64; BLOCK],
+    /// `Some(d)` where every lane's direction is `d` (an orthographic
+    /// view): the leaves' terms of the direction alone are then worked out
+    /// once, not per lane.
+    pub dir: Option<[f64; 3]>,
 }
 
 impl Default for Lanes {
@@ -124,6 +128,7 @@ impl Default for Lanes {
             d: [[0.0; BLOCK]; 3],
             z0: [f64::INFINITY; BLOCK],
             z1: [f64::NEG_INFINITY; BLOCK],
+            dir: None,
         }
     }
 }
@@ -273,10 +278,13 @@ impl Csg {
         // Per leaf, the polynomial along each ray `α z² + β z + γ`, the
         // rounding allowance, and the crossings (NaN where none).
         for ((q, &shape), lr) in self.leaves.iter().zip(&self.shape).zip(w.leaf.iter_mut()) {
-            match shape {
-                PLANE => lr.solve::<PLANE>(q, l),
-                DIAGONAL => lr.solve::<DIAGONAL>(q, l),
-                _ => lr.solve::<FULL>(q, l),
+            match (shape, l.dir) {
+                (PLANE, None) => lr.solve::<PLANE, false>(q, l, [0.0; 3]),
+                (DIAGONAL, None) => lr.solve::<DIAGONAL, false>(q, l, [0.0; 3]),
+                (_, None) => lr.solve::<FULL, false>(q, l, [0.0; 3]),
+                (PLANE, Some(d)) => lr.solve::<PLANE, true>(q, l, d),
+                (DIAGONAL, Some(d)) => lr.solve::<DIAGONAL, true>(q, l, d),
+                (_, Some(d)) => lr.solve::<FULL, true>(q, l, d),
             }
         }
         let leaves = &w.leaf[..nl];
@@ -459,8 +467,11 @@ impl LeafRay {
     /// harmless values). (Not inlined: its arguments are then known not
     /// to overlap, and the loop vectorises without run-time checks.)
     /// `KIND`: the form of `q` ([`Csg::shape`]), its zero terms left out.
+    /// `FIXED`: every lane's direction is `dir` (read instead of `l.d`; the
+    /// terms of the direction alone are then the same in every lane, and
+    /// the compiler takes them out of the loop: the same bits).
     #[inline(never)]
-    fn solve<const KIND: u8>(&mut self, q: &Quadric, l: &Lanes) {
+    fn solve<const KIND: u8, const FIXED: bool>(&mut self, q: &Quadric, l: &Lanes, dir: [f64; 3]) {
         // `q(p0 + u) = c + g·u + uᵀAu` with `u = o − p0 + d·z`, its terms
         // written out (so that the loop vectorises).
         let [g0, g1, g2] = q.g;
@@ -469,7 +480,11 @@ impl LeafRay {
         if KIND == PLANE {
             for k in 0..BLOCK {
                 let (u0, u1, u2) = (l.o[0][k] - p0[0], l.o[1][k] - p0[1], l.o[2][k] - p0[2]);
-                let (d0, d1, d2) = (l.d[0][k], l.d[1][k], l.d[2][k]);
+                let [d0, d1, d2] = if FIXED {
+                    dir
+                } else {
+                    [l.d[0][k], l.d[1][k], l.d[2][k]]
+                };
                 let (z0, z1) = (l.z0[k], l.z1[k]);
                 let b = g0 * d0 + g1 * d1 + g2 * d2;
                 let c = c0 + (g0 * u0 + g1 * u1 + g2 * u2);
@@ -489,7 +504,11 @@ impl LeafRay {
         let full = KIND == FULL;
         for k in 0..BLOCK {
             let (u0, u1, u2) = (l.o[0][k] - p0[0], l.o[1][k] - p0[1], l.o[2][k] - p0[2]);
-            let (d0, d1, d2) = (l.d[0][k], l.d[1][k], l.d[2][k]);
+            let [d0, d1, d2] = if FIXED {
+                dir
+            } else {
+                [l.d[0][k], l.d[1][k], l.d[2][k]]
+            };
             let (z0, z1) = (l.z0[k], l.z1[k]);
             // `A·d` and `A·u` (`A` diagonal unless `full`).
             let (ad0, ad1, ad2, au0, au1, au2) = if full {
