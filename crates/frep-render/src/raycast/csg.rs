@@ -242,9 +242,10 @@ impl Csg {
 
     /// The set expression over the leaves' bit masks `m` (bit `k` of
     /// `m[j]`: leaf `j` holds lane `k`): the lanes the solid holds.
+    /// `stack`: its evaluation stack (kept by the caller, so that it is not
+    /// cleared at every call; every entry is written before it is read).
     #[inline]
-    fn holds(&self, m: &[u64; MAX_LEAVES]) -> u64 {
-        let mut stack = [0u64; STACK];
+    fn holds(&self, m: &[u64; MAX_LEAVES], stack: &mut [u64; STACK]) -> u64 {
         let mut top = 0;
         for s in &self.prog {
             match *s {
@@ -287,7 +288,11 @@ impl Csg {
                 (_, Some(d)) => lr.solve::<FULL, true>(q, l, d),
             }
         }
-        let leaves = &w.leaf[..nl];
+        let Work {
+            leaf: leaves,
+            stack,
+        } = w;
+        let leaves = &leaves[..nl];
         let Solved {
             z: best,
             leaf,
@@ -355,7 +360,7 @@ impl Csg {
                 unclear |= near;
             }
             bad |= valid & unclear;
-            let inside = self.holds(&m) & valid;
+            let inside = self.holds(&m, stack) & valid;
             for k in 0..B {
                 let take = ((inside >> k) & 1 != 0) & (at[k] < best[k]);
                 best[k] = if take { at[k] } else { best[k] };
@@ -428,10 +433,20 @@ impl Csg {
 }
 
 /// The working arrays of [`Csg::solve`] (kept from block to block: every
-/// lane of the leaves in use is written before it is read).
-#[derive(Default)]
+/// lane of the leaves in use is written before it is read), and the set
+/// expression's evaluation stack ([`Csg::holds`]).
 pub(super) struct Work {
     leaf: [LeafRay; MAX_LEAVES],
+    stack: [u64; STACK],
+}
+
+impl Default for Work {
+    fn default() -> Work {
+        Work {
+            leaf: Default::default(),
+            stack: [0; STACK],
+        }
+    }
 }
 
 /// One leaf along a block of rays: its polynomial `a z² + b z + c`, the
