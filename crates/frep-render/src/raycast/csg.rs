@@ -493,6 +493,8 @@ impl LeafRay {
         let [[a00, a01, a02], [_, a11, a12], [_, _, a22]] = q.a;
         let (c0, p0) = (q.c, q.p0);
         if KIND == PLANE {
+            // (Outside the loop: two stores, not a call.)
+            self.graze = [false; BLOCK];
             for k in 0..BLOCK {
                 let (u0, u1, u2) = (l.o[0][k] - p0[0], l.o[1][k] - p0[1], l.o[2][k] - p0[2]);
                 let [d0, d1, d2] = if FIXED {
@@ -510,7 +512,6 @@ impl LeafRay {
                 let r = -c / b;
                 self.enter[k] = if b > 0.0 { r } else { f64::NAN };
                 self.leave[k] = if b < 0.0 { r } else { f64::NAN };
-                self.graze[k] = false;
                 (self.a[k], self.b[k], self.c[k]) = (0.0, b, c);
                 self.tol[k] = t;
             }
