@@ -616,7 +616,10 @@ impl ModelCaster {
                     ray_lanes(&self.bounds, forward, fixed, &rm, (x + j as u32, py), r);
                     let (k, m) = (n + j, L.min(len - j));
                     if m == L {
-                        // (A copy of known length: no call.)
+                        // (A copy of known length: no call. The other
+                        // case is a function of its own, so that the
+                        // compiler does not merge the two into one copy
+                        // of either length, a call.)
                         for a in 0..3 {
                             lanes.o[a][k..k + L].copy_from_slice(&r.o[a]);
                             lanes.d[a][k..k + L].copy_from_slice(&r.dz[a]);
@@ -624,12 +627,7 @@ impl ModelCaster {
                         lanes.z0[k..k + L].copy_from_slice(&r.z0);
                         lanes.z1[k..k + L].copy_from_slice(&r.z1);
                     } else {
-                        for a in 0..3 {
-                            lanes.o[a][k..k + m].copy_from_slice(&r.o[a][..m]);
-                            lanes.d[a][k..k + m].copy_from_slice(&r.dz[a][..m]);
-                        }
-                        lanes.z0[k..k + m].copy_from_slice(&r.z0[..m]);
-                        lanes.z1[k..k + m].copy_from_slice(&r.z1[..m]);
+                        put_ray_lanes(lanes, r, k, m);
                     }
                     j += L;
                 }
@@ -1821,6 +1819,20 @@ fn set_up_rays(
     }
     debug_assert_eq!(k, n, "every ray of the tile set up");
     fixed
+}
+
+/// The first `m` rays of `r` into lanes `k..k + m` of `lanes` (origins,
+/// directions scaled to depth, depth ranges): a row's last rays, where
+/// fewer than [`SETUP_LANES`] are left.
+#[cold]
+#[inline(never)]
+fn put_ray_lanes(lanes: &mut Lanes, r: &RayLanes, k: usize, m: usize) {
+    for a in 0..3 {
+        lanes.o[a][k..k + m].copy_from_slice(&r.o[a][..m]);
+        lanes.d[a][k..k + m].copy_from_slice(&r.dz[a][..m]);
+    }
+    lanes.z0[k..k + m].copy_from_slice(&r.z0[..m]);
+    lanes.z1[k..k + m].copy_from_slice(&r.z1[..m]);
 }
 
 /// [`SETUP_LANES`] rays of a row ([`ray_lanes`]): origins, directions, the
