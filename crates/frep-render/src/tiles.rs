@@ -223,16 +223,19 @@ mod tests {
         assert_eq!(ts.last().unwrap().y1, 33);
     }
 
-    /// Tiles that are not [`tiles`]' cut of the buffer are refused.
+    /// Tiles that are not [`tiles`]' cut of the buffer (a 35×33 image,
+    /// two elements per pixel) are refused: another image's cut, tiles out
+    /// of order or missing.
     #[test]
     fn tile_rows_refuses_other_cuts() {
-        let mut buf = vec![0u8; 70 * 33];
+        let mut buf = vec![0u8; 35 * 33 * 2];
         for ts in [
-            tiles(70, 33, 8),
-            tiles(70, 32, 16),
-            tiles(69, 33, 16),
-            tiles(70, 33, 16).into_iter().rev().collect(),
-            tiles(70, 33, 16)[1..].to_vec(),
+            tiles(35, 32, 16),
+            tiles(35, 34, 16),
+            tiles(34, 33, 16),
+            tiles(36, 33, 8),
+            tiles(35, 33, 16).into_iter().rev().collect(),
+            tiles(35, 33, 16)[1..].to_vec(),
         ] {
             let cut = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
                 tile_rows(&mut buf, 35, 2, &ts).len()
@@ -240,6 +243,7 @@ mod tests {
             assert!(cut.is_err(), "{} tiles", ts.len());
         }
         assert_eq!(tile_rows(&mut buf, 35, 2, &tiles(35, 33, 16)).len(), 9);
+        assert_eq!(tile_rows(&mut buf, 35, 2, &tiles(35, 33, 8)).len(), 25);
     }
 
     #[test]
