@@ -1412,6 +1412,12 @@ fn closed_form_tiles_with_rays_starting_in_the_box() {
     let b = Aabb::new([-1.0; 3], [1.0; 3]);
     let persp = Projection::Perspective { fov_deg: 70.0 };
     let ortho = Projection::Orthographic { half_extent: 1.2 };
+    // (One thread: the tiles the general caster takes over may otherwise
+    // differ in their last bits with the order of the tiles.)
+    let one = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap();
     for (eye, target, projection) in [
         // Inside the solid, and inside the hole through it.
         ([0.0, -0.6, 0.2], [0.0, 1.0, 0.0], persp),
@@ -1424,14 +1430,9 @@ fn closed_form_tiles_with_rays_starting_in_the_box() {
         let cam = Camera::look_at(eye, target, [0.3, 1.0, 0.2], projection);
         let s = settings(b, 64, 48);
         let c = ModelCaster::new(&model, Inputs::default(), b);
-        let img = frep_render::render_with(&c, &s, &cam, None).unwrap();
-        let hits = cast_tiled(
-            &ModelCaster::new(&model, Inputs::default(), b),
-            &cam,
-            64,
-            48,
-            16,
-        );
+        let img = one.install(|| frep_render::render_with(&c, &s, &cam, None).unwrap());
+        let c2 = ModelCaster::new(&model, Inputs::default(), b);
+        let hits = one.install(|| cast_tiled(&c2, &cam, 64, 48, 16));
         assert!(hits.hit_count() > 100, "eye {eye:?}");
         assert_eq!(img.rgba, shade(&hits, &s.lighting).rgba, "eye {eye:?}");
         // Some tiles are solved in closed form.
@@ -1462,15 +1463,23 @@ fn a_caster_carries_nothing_from_view_to_view() {
     };
     let shared = ModelCaster::new(&model, Inputs::default(), b);
     let fresh = || ModelCaster::new(&model, Inputs::default(), b);
-    for (first, then) in [(&top, &turn), (&turn, &top)] {
-        let _ = frep_render::render_with(&shared, first, &first.camera(), None).unwrap();
-        let cam = then.camera();
-        let hits = cast_tiled(&shared, &cam, 64, 64, 16);
-        assert_eq!(hits.hits, cast_tiled(&fresh(), &cam, 64, 64, 16).hits);
-        let img = frep_render::render_with(&shared, then, &cam, None).unwrap();
-        let want = frep_render::render_with(&fresh(), then, &cam, None).unwrap();
-        assert_eq!(img.rgba, want.rgba);
-    }
+    // (One thread: tiles the general caster takes over may otherwise
+    // differ in their last bits with the order of the tiles.)
+    let one = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap();
+    one.install(|| {
+        for (first, then) in [(&top, &turn), (&turn, &top)] {
+            let _ = frep_render::render_with(&shared, first, &first.camera(), None).unwrap();
+            let cam = then.camera();
+            let hits = cast_tiled(&shared, &cam, 64, 64, 16);
+            assert_eq!(hits.hits, cast_tiled(&fresh(), &cam, 64, 64, 16).hits);
+            let img = frep_render::render_with(&shared, then, &cam, None).unwrap();
+            let want = frep_render::render_with(&fresh(), then, &cam, None).unwrap();
+            assert_eq!(img.rgba, want.rgba);
+        }
+    });
 }
 
 /// Random set expressions over quadrics (a fixed seed): 2 to 6 leaves —
