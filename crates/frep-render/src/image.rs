@@ -316,24 +316,27 @@ struct SrgbTable {
     next: Box<[f32; SRGB_CELLS + 1]>,
 }
 
+/// The smallest `c` in `[0, 1]` whose `to_byte(linear_to_srgb(c))` is at
+/// least `want`, found by bisection over the `f32`s (non-negative ones are
+/// ordered like their bit patterns).
+fn srgb_threshold(want: u8) -> f32 {
+    let byte = |bits: u32| to_byte(linear_to_srgb(f32::from_bits(bits)));
+    let (mut lo, mut hi) = (0u32, 1.0f32.to_bits());
+    while lo < hi {
+        let mid = lo + (hi - lo) / 2;
+        if byte(mid) >= want {
+            hi = mid;
+        } else {
+            lo = mid + 1;
+        }
+    }
+    f32::from_bits(lo)
+}
+
 fn srgb_table() -> &'static SrgbTable {
     static T: std::sync::OnceLock<SrgbTable> = std::sync::OnceLock::new();
     T.get_or_init(|| {
-        let byte = |bits: u32| to_byte(linear_to_srgb(f32::from_bits(bits)));
-        let t: [f32; 255] = std::array::from_fn(|i| {
-            let want = i as u8 + 1;
-            // Non-negative f32s are ordered like their bit patterns.
-            let (mut lo, mut hi) = (0u32, 1.0f32.to_bits());
-            while lo < hi {
-                let mid = lo + (hi - lo) / 2;
-                if byte(mid) >= want {
-                    hi = mid;
-                } else {
-                    lo = mid + 1;
-                }
-            }
-            f32::from_bits(lo)
-        });
+        let t: [f32; 255] = std::array::from_fn(|i| srgb_threshold(i as u8 + 1));
         // Cell `q` is `[q − ½, q + ½] / SRGB_CELLS` (both ends: a value
         // halfway between two whole numbers rounds to the even one).
         let edge = |q: usize| (q as f64 - 0.5) / SRGB_CELLS as f64;
@@ -809,19 +812,9 @@ mod tests {
                 assert_eq!(srgb_byte(c), to_byte(linear_to_srgb(c)), "{c}");
             }
         }
-        // ...and every threshold (the smallest value of each byte, found
-        // by bisection over the bit patterns).
-        let byte = |bits: u32| to_byte(linear_to_srgb(f32::from_bits(bits)));
+        // ...and every threshold (the smallest value of each byte).
         for want in 1..=255u8 {
-            let (mut lo, mut hi) = (0u32, 1.0f32.to_bits());
-            while lo < hi {
-                let mid = lo + (hi - lo) / 2;
-                if byte(mid) >= want {
-                    hi = mid;
-                } else {
-                    lo = mid + 1;
-                }
-            }
+            let lo = srgb_threshold(want).to_bits();
             for d in -2i32..=2 {
                 let c = f32::from_bits(lo.saturating_add_signed(d));
                 assert_eq!(srgb_byte(c), to_byte(linear_to_srgb(c)), "{c}");
