@@ -121,6 +121,20 @@ pub(super) struct Lanes {
     pub dir: Option<[f64; 3]>,
 }
 
+impl Lanes {
+    /// Lane `k`'s direction: `dir` where every lane's is that (`FIXED`;
+    /// the same for every `k`, so that loops can hoist what depends on it
+    /// alone), else its own.
+    #[inline(always)]
+    fn dir_at<const FIXED: bool>(&self, k: usize, dir: [f64; 3]) -> [f64; 3] {
+        if FIXED {
+            dir
+        } else {
+            [self.d[0][k], self.d[1][k], self.d[2][k]]
+        }
+    }
+}
+
 impl Default for Lanes {
     fn default() -> Lanes {
         Lanes {
@@ -497,11 +511,7 @@ impl LeafRay {
             self.graze = [false; BLOCK];
             for k in 0..BLOCK {
                 let (u0, u1, u2) = (l.o[0][k] - p0[0], l.o[1][k] - p0[1], l.o[2][k] - p0[2]);
-                let [d0, d1, d2] = if FIXED {
-                    dir
-                } else {
-                    [l.d[0][k], l.d[1][k], l.d[2][k]]
-                };
+                let [d0, d1, d2] = l.dir_at::<FIXED>(k, dir);
                 let (z0, z1) = (l.z0[k], l.z1[k]);
                 let b = g0 * d0 + g1 * d1 + g2 * d2;
                 let c = c0 + (g0 * u0 + g1 * u1 + g2 * u2);
@@ -520,11 +530,7 @@ impl LeafRay {
         let full = KIND == FULL;
         for k in 0..BLOCK {
             let (u0, u1, u2) = (l.o[0][k] - p0[0], l.o[1][k] - p0[1], l.o[2][k] - p0[2]);
-            let [d0, d1, d2] = if FIXED {
-                dir
-            } else {
-                [l.d[0][k], l.d[1][k], l.d[2][k]]
-            };
+            let [d0, d1, d2] = l.dir_at::<FIXED>(k, dir);
             let (z0, z1) = (l.z0[k], l.z1[k]);
             // `A·d` and `A·u` (`A` diagonal unless `full`).
             let (ad0, ad1, ad2, au0, au1, au2) = if full {
