@@ -35,6 +35,14 @@ fn bounds_of(src: &str) -> Aabb {
     Aabb::new([v[0], v[1], v[2]], [v[3], v[4], v[5]])
 }
 
+/// A pool of `threads` rayon threads.
+fn pool(threads: usize) -> rayon::ThreadPool {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap()
+}
+
 fn settings(bounds: Aabb, w: u32, h: u32) -> RenderSettings {
     RenderSettings {
         size: (w, h),
@@ -641,10 +649,7 @@ fn lines_along_an_axis_equal_points() {
             );
             // One thread: the work counted depends on the order tiles meet
             // a worker's scratch (its pruning odds); the hits do not.
-            let one = rayon::ThreadPoolBuilder::new()
-                .num_threads(1)
-                .build()
-                .unwrap();
+            let one = pool(1);
             let cast = |lines: bool| {
                 let mut c = ModelCaster::new(&model, Inputs::default(), b);
                 c.lines = lines;
@@ -822,10 +827,7 @@ fn quadric_blocks_equal_single_rays() {
             [v[0], v[1], v[2], v[3], n[0], n[1], n[2]].map(f64::to_bits)
         })
     };
-    let one_thread = rayon::ThreadPoolBuilder::new()
-        .num_threads(1)
-        .build()
-        .unwrap();
+    let one_thread = pool(1);
     for (name, src) in &models {
         let model = Model::compile(src).unwrap();
         let b = if src.contains("-- bounds:") {
@@ -1414,10 +1416,7 @@ fn closed_form_tiles_with_rays_starting_in_the_box() {
     let ortho = Projection::Orthographic { half_extent: 1.2 };
     // (One thread: the tiles the general caster takes over may otherwise
     // differ in their last bits with the order of the tiles.)
-    let one = rayon::ThreadPoolBuilder::new()
-        .num_threads(1)
-        .build()
-        .unwrap();
+    let one = pool(1);
     for (eye, target, projection) in [
         // Inside the solid, and inside the hole through it.
         ([0.0, -0.6, 0.2], [0.0, 1.0, 0.0], persp),
@@ -1465,10 +1464,7 @@ fn a_caster_carries_nothing_from_view_to_view() {
     let fresh = || ModelCaster::new(&model, Inputs::default(), b);
     // (One thread: tiles the general caster takes over may otherwise
     // differ in their last bits with the order of the tiles.)
-    let one = rayon::ThreadPoolBuilder::new()
-        .num_threads(1)
-        .build()
-        .unwrap();
+    let one = pool(1);
     one.install(|| {
         for (first, then) in [(&top, &turn), (&turn, &top)] {
             let _ = frep_render::render_with(&shared, first, &first.camera(), None).unwrap();
@@ -1600,10 +1596,7 @@ fn root_gaps_are_not_hit_where_undefined() {
     let b = Aabb::new([-1.0; 3], [1.0; 3]);
     let (w, h) = (96, 96);
     for threads in [1, 2] {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap();
+        let pool = pool(threads);
         for (yaw, pitch, fov) in CSG_VIEWS {
             let cam = Camera::orbit(&b, yaw, pitch, fov);
             let [(on, _), (off, _)] = pool.install(|| cast_exact_on_off(&model, b, &cam, w, h));
