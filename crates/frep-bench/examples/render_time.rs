@@ -77,7 +77,7 @@ fn main() {
             stats = Some(caster.stats());
         }
         print!(
-            "{file:<24} {size}² {view} {threads}t {:8.1} ms {:6.2} MiB",
+            "{file:<24} {size}² {view} {threads}t {:8.2} ms {:6.2} MiB",
             best.as_secs_f64() * 1e3,
             peak as f64 / (1u64 << 20) as f64
         );

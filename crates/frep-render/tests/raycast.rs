@@ -1282,9 +1282,12 @@ fn against_general(
         let [x, y, z] = a.position;
         let g = grad.eval(x, y, z, inputs).gradient();
         let len = (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]).sqrt();
+        // (Normals need not be unit vectors: compared as directions.)
+        let n = a.normal;
+        let nl = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
         for k in 0..3 {
             assert!(
-                (a.normal[k] + g[k] / len).abs() <= 1e-7,
+                (n[k] / nl + g[k] / len).abs() <= 1e-7,
                 "{what}: pixel {i} normals {:?} and {:?}, gradient {g:?}",
                 a.normal,
                 o.normal

@@ -159,7 +159,9 @@ pub(super) struct Solved {
     pub leaf: [u64; BLOCK],
     /// The hit's position `o + d·z`.
     pub p: [[f64; BLOCK]; 3],
-    /// The unit outward normal at a leaf's hit (facing the ray).
+    /// The outward normal at a leaf's hit, facing the ray: the leaf's
+    /// gradient, of any length (shading normalises it; not here, which
+    /// would cost a square root and a division per lane).
     pub n: [[f64; BLOCK]; 3],
 }
 
@@ -416,7 +418,7 @@ impl Csg {
                 ];
                 let slope = g[0] * l.d[0][k] + g[1] * l.d[1][k] + g[2] * l.d[2][k];
                 let len2 = g[0] * g[0] + g[1] * g[1] + g[2] * g[2];
-                let f = -slope.signum() / len2.sqrt();
+                let f = -slope.signum();
                 let mine = leaf[k] == j as u64;
                 for a in 0..3 {
                     nrm[a][k] = if mine { g[a] * f } else { nrm[a][k] };
@@ -518,8 +520,10 @@ impl LeafRay {
                 let zm = z0.abs().max(z1.abs());
                 let t = 1e-9 * (b.abs() * zm + c.abs());
                 // Its one root, into the solid where the slope `b` is
-                // positive (the bits of the quadratic's form below).
-                let r = -c / b;
+                // positive (the bits of the quadratic's form below). (By a
+                // reciprocal: in orthographic views `b` is the same in
+                // every lane, and the division leaves the loop.)
+                let r = -c * (1.0 / b);
                 self.enter[k] = if b > 0.0 { r } else { f64::NAN };
                 self.leave[k] = if b < 0.0 { r } else { f64::NAN };
                 (self.a[k], self.b[k], self.c[k]) = (0.0, b, c);
@@ -555,10 +559,12 @@ impl LeafRay {
             // `±√disc`, in the stable form: `h / a` and `c / h` with
             // `h = −(b + sign(b)·√disc) / 2`. For `b ≥ 0` the first is the
             // one out of the solid; `a = 0` (a plane) gives its one root as
-            // `c / h` and ±∞ or NaN for the other.
+            // `c / h` and ±∞ or NaN for the other. (`h / a` by a
+            // reciprocal: in orthographic views `a` is the same in every
+            // lane, and its division leaves the loop.)
             let sq = disc.max(0.0).sqrt();
             let h = -0.5 * (b + sq.copysign(b));
-            let (r1, r2) = (h / a, c / h);
+            let (r1, r2) = (h * (1.0 / a), c / h);
             let (enter, leave) = if b >= 0.0 { (r2, r1) } else { (r1, r2) };
             let real = disc >= 0.0;
             self.enter[k] = if real { enter } else { f64::NAN };
@@ -840,7 +846,12 @@ mod tests {
         // (The compiler orders a commutative operation's operands: the
         // leaves' order is the tape's.)
         let sphere = c.leaves.iter().position(|q| q.a[0][0] != 0.0).unwrap() as u64;
-        let n = |k: usize| [s.n[0][k], s.n[1][k], s.n[2][k]];
+        // (The normals are the leaves' gradients: compared as directions.)
+        let n = |k: usize| {
+            let v = [s.n[0][k], s.n[1][k], s.n[2][k]];
+            let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+            v.map(|c| c / l)
+        };
         // The flat face at height 0.5.
         assert_eq!((s.z[0], s.leaf[0]), (1.5, 1 - sphere));
         assert_eq!(n(0).map(f64::abs), [0.0, 0.0, 1.0]);
@@ -878,6 +889,9 @@ mod tests {
         assert_eq!(s.sure, 1);
         assert!((s.z[0] - (2.0 - 0.2f64.sqrt())).abs() < 1e-14, "{}", s.z[0]);
         assert_eq!(s.leaf[0], 2);
-        assert_eq!([s.n[0][0], s.n[1][0], s.n[2][0]], [0.0, -1.0, 0.0]);
+        // (The normal is the leaf's gradient, `2y` along `y`.)
+        let n = [s.n[0][0], s.n[1][0], s.n[2][0]];
+        assert_eq!((n[0], n[2]), (0.0, 0.0));
+        assert!((n[1] + 2.0 * 0.2f64.sqrt()).abs() < 1e-14, "{n:?}");
     }
 }
