@@ -244,9 +244,13 @@ fn main() {
                 p2.install(|| render_with(&caster, &top, &top_cam, None).unwrap());
                 eprintln!("{file} {size}² top: {:?} {:?}", t.elapsed(), caster.stats());
             }
-            // Peak heap of one 2-thread render, beyond the image.
+            // Peak heap of one 2-thread render, beyond the image (whose
+            // bytes are new then: no dropped image's kept for it).
+            let reuse = frep_render::image_reuse();
+            frep_render::set_image_reuse(0);
             let (img, peak) =
                 peak_during(|| p2.install(|| render_camera(&model, &turn, &cam, None).unwrap()));
+            frep_render::set_image_reuse(reuse);
             let peak_mib = (peak as f64 - img.rgba.len() as f64) / (1u64 << 20) as f64;
             drop(img);
             let (c, top_box) = frep_bench::top_view(cube);

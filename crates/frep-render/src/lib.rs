@@ -49,7 +49,9 @@ pub mod viewset;
 pub use camera::{Aabb, Camera, Frustum, Projection, Ray, RayMaker};
 pub use encode::{encode, EncodeError, ImageFormat};
 pub use golden::ascii_mask;
-pub use image::{shade, DepthImage, Hit, HitBuffer, Image, Light, Lighting, Shader};
+pub use image::{
+    image_reuse, set_image_reuse, shade, DepthImage, Hit, HitBuffer, Image, Light, Lighting, Shader,
+};
 pub use progressive::{upscale_nearest, ProgressivePlan, ProgressiveStep};
 pub use raycast::{
     render, render_camera, render_hits, render_with, CastStats, ModelCaster, RenderError,

@@ -4015,7 +4015,7 @@ pub fn render_with(
     let mut img = Image {
         width: w,
         height: h,
-        rgba: vec![0; w as usize * h as usize * 4],
+        rgba: crate::image::image_bytes(w as usize * h as usize * 4),
     };
     // Each tile is shaded straight into its rows of the image, or filled
     // with the background where no ray hit (nothing to shade). The hit
