@@ -607,7 +607,7 @@ impl Shader {
 
     /// Shades a run of pixels of row `y`: `hits[j]` (`None`: background)
     /// with ambient-occlusion factor `ao[j]` (`None`: fully open) gives the
-    /// RGB bytes `rgba[4j..4j + 3]` (the alpha bytes are left alone).
+    /// pixel `rgba[4j..4j + 4]`: its RGB bytes, alpha 255 (opaque).
     ///
     /// The pixels are shaded [`SPAN`] at a time, each step a loop over
     /// those pixels (vectorised): every pixel gets the same bytes whatever
@@ -679,7 +679,7 @@ impl Shader {
         }
         if hit == 0 {
             for px in rgba.chunks_exact_mut(4) {
-                px[..3].copy_from_slice(&bg);
+                px.copy_from_slice(&[bg[0], bg[1], bg[2], 255]);
             }
             return;
         }
@@ -694,8 +694,8 @@ impl Shader {
 
     /// Shades up to [`SPAN`] pixels given as arrays: pixel `j` (bit `j` of
     /// `hit`; else the background `bg`) with `lanes`' values at `j` gives
-    /// the RGB bytes `rgba[4j..4j + 3]`, for the pixels `rgba` holds. What
-    /// [`Shader::span`] does once it has gathered its hits.
+    /// the pixel `rgba[4j..4j + 4]` (alpha 255), for the pixels `rgba`
+    /// holds. What [`Shader::span`] does once it has gathered its hits.
     pub(crate) fn shade_lanes(&self, bg: [u8; 3], lanes: &ShadeLanes, hit: u32, rgba: &mut [u8]) {
         let lighting = &self.lighting;
         let cam = &self.camera;
@@ -788,11 +788,25 @@ impl Shader {
                 }
             }
         }
-        for (j, px) in rgba.chunks_exact_mut(4).enumerate() {
-            if (hit >> j) & 1 == 0 {
-                px[..3].copy_from_slice(&bg);
-            } else {
-                px[..3].copy_from_slice(&[bytes[0][j], bytes[1][j], bytes[2][j]]);
+        // Whole pixels (alpha 255), as words: a select and a store per
+        // eight pixels, not a branch and a three-byte copy per pixel.
+        let back = u32::from_le_bytes([bg[0], bg[1], bg[2], 255]);
+        let mut px = [0u32; SPAN];
+        for j in 0..SPAN {
+            let [r, g, b] = [bytes[0][j], bytes[1][j], bytes[2][j]].map(u32::from);
+            let v = r | g << 8 | b << 16 | 0xff00_0000;
+            px[j] = if (hit >> j) & 1 != 0 { v } else { back };
+        }
+        match <&mut [u8; 4 * SPAN]>::try_from(&mut *rgba) {
+            Ok(all) => {
+                for (o, p) in all.chunks_exact_mut(4).zip(&px) {
+                    o.copy_from_slice(&p.to_le_bytes());
+                }
+            }
+            Err(_) => {
+                for (o, p) in rgba.chunks_exact_mut(4).zip(&px) {
+                    o.copy_from_slice(&p.to_le_bytes());
+                }
             }
         }
     }
@@ -1143,6 +1157,8 @@ mod tests {
                 for (j, h) in row.iter().enumerate() {
                     let one = shader.pixel(j as u32, 1, h.as_ref(), a.map(|a| a[j]));
                     assert_eq!(rgba[4 * j..4 * j + 3], one, "pixel {j}, ortho {ortho}");
+                    // (Whole pixels: `rgba` started transparent.)
+                    assert_eq!(rgba[4 * j + 3], 255, "pixel {j}, ortho {ortho}");
                 }
             }
         }

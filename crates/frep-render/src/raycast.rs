@@ -557,9 +557,7 @@ impl ModelCaster {
     ) -> bool {
         const L: usize = SETUP_LANES;
         let rm = camera.rays(tile.width, tile.height);
-        for row in rows.iter_mut() {
-            row.fill(255);
-        }
+        // (Every pixel below is written whole, alpha 255 included.)
         let bx = self
             .tile_box(camera, &rm, tile)
             .filter(|bx| !self.outside_in(bx, sc));
@@ -568,7 +566,7 @@ impl ModelCaster {
             for (row, y) in rows.iter_mut().zip(tile.y0..) {
                 let bg = shader.background(y);
                 for px in row.chunks_exact_mut(4) {
-                    px[..3].copy_from_slice(&bg);
+                    px.copy_from_slice(&[bg[0], bg[1], bg[2], 255]);
                 }
             }
             return true;
@@ -708,7 +706,7 @@ impl ModelCaster {
                 let hit = ((solved.hit >> k) & (u64::MAX >> (64 - m))) as u32;
                 if hit == 0 {
                     for px in row[o..o + 4 * m].chunks_exact_mut(4) {
-                        px[..3].copy_from_slice(&bg);
+                        px.copy_from_slice(&[bg[0], bg[1], bg[2], 255]);
                     }
                     c += m;
                     continue;
@@ -4063,8 +4061,6 @@ pub fn render_with(
             for ((r, row), y) in rows.iter_mut().enumerate().zip(t.y0..) {
                 let span = r * tw..(r + 1) * tw;
                 let a = (!ao.is_empty()).then(|| &ao[span.clone()]);
-                // Opaque: `span` writes the colours only.
-                row.fill(255);
                 shader.span(y, &hits[span], a, row);
             }
         },
