@@ -797,6 +797,8 @@ impl Shader {
             let v = r | g << 8 | b << 16 | 0xff00_0000;
             px[j] = if (hit >> j) & 1 != 0 { v } else { back };
         }
+        // (The same loop twice: over a whole pass its length is known, and
+        // it becomes vector stores.)
         match <&mut [u8; 4 * SPAN]>::try_from(&mut *rgba) {
             Ok(all) => {
                 for (o, p) in all.chunks_exact_mut(4).zip(&px) {
