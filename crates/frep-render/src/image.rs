@@ -678,9 +678,7 @@ impl Shader {
             }
         }
         if hit == 0 {
-            for px in rgba.chunks_exact_mut(4) {
-                px.copy_from_slice(&[bg[0], bg[1], bg[2], 255]);
-            }
+            fill_background(bg, rgba);
             return;
         }
         self.shade_lanes(bg, &lanes, hit, rgba);
@@ -811,6 +809,13 @@ impl Shader {
                 }
             }
         }
+    }
+}
+
+/// Fills the pixels `rgba` holds with the background colour `bg`, opaque.
+pub(crate) fn fill_background(bg: [u8; 3], rgba: &mut [u8]) {
+    for px in rgba.chunks_exact_mut(4) {
+        px.copy_from_slice(&[bg[0], bg[1], bg[2], 255]);
     }
 }
 

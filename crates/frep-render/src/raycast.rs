@@ -140,7 +140,7 @@ use frep_core::simplify::{ChoiceMask, Simplifier, SimplifyMode};
 use frep_core::{Model, Tape};
 
 use crate::camera::{dot, sub, Aabb, Camera, Projection, RayMaker};
-use crate::image::{Hit, HitBuffer, Image, Lighting, ShadeLanes, Shader, SPAN};
+use crate::image::{fill_background, Hit, HitBuffer, Image, Lighting, ShadeLanes, Shader, SPAN};
 use crate::tiles::{cast_tiled, for_each_dynamic, tile_rows, tiles, Tile, TileCaster};
 
 mod csg;
@@ -349,13 +349,20 @@ impl ModelCaster {
         }
     }
 
-    /// Whether the tile's whole frustum within the model box's depth range
-    /// is outside (one interval evaluation of the root tape): then none of
-    /// its rays is set up. The box holds every box the tile's root node
-    /// would evaluate, so nothing that node would find is skipped.
-    fn tile_outside(&self, camera: &Camera, rm: &RayMaker, tile: &Tile, sc: &mut Scratch) -> bool {
+    /// The tile's box ([`ModelCaster::tile_box`]), unless the tile's whole
+    /// frustum within the model box's depth range is outside (one interval
+    /// evaluation of the root tape) or misses the box: then `None`, and
+    /// none of its rays is set up. The box holds every box the tile's root
+    /// node would evaluate, so nothing that node would find is skipped.
+    fn live_tile_box(
+        &self,
+        camera: &Camera,
+        rm: &RayMaker,
+        tile: &Tile,
+        sc: &mut Scratch,
+    ) -> Option<Aabb> {
         self.tile_box(camera, rm, tile)
-            .is_none_or(|bx| self.outside_in(&bx, sc))
+            .filter(|bx| !self.outside_in(bx, sc))
     }
 
     /// A box holding the parts of `tile`'s rays (`rm`, of `camera`) inside
@@ -453,7 +460,9 @@ impl ModelCaster {
         let mut scratch = self.take_scratch();
         // The rays of this image size, for the check and the tile's rays.
         let rm = camera.rays(tile.width, tile.height);
-        let empty = self.tile_outside(camera, &rm, tile, &mut scratch);
+        let empty = self
+            .live_tile_box(camera, &rm, tile, &mut scratch)
+            .is_none();
         let (mut stats, any_hit) = if empty {
             let stats = CastStats {
                 empty_tiles: 1,
@@ -558,16 +567,10 @@ impl ModelCaster {
         const L: usize = SETUP_LANES;
         let rm = camera.rays(tile.width, tile.height);
         // (Every pixel below is written whole, alpha 255 included.)
-        let bx = self
-            .tile_box(camera, &rm, tile)
-            .filter(|bx| !self.outside_in(bx, sc));
-        let Some(bx) = bx else {
+        let Some(bx) = self.live_tile_box(camera, &rm, tile, sc) else {
             stats.empty_tiles += 1;
             for (row, y) in rows.iter_mut().zip(tile.y0..) {
-                let bg = shader.background(y);
-                for px in row.chunks_exact_mut(4) {
-                    px.copy_from_slice(&[bg[0], bg[1], bg[2], 255]);
-                }
+                fill_background(shader.background(y), row);
             }
             return true;
         };
@@ -705,9 +708,7 @@ impl ModelCaster {
                 let o = 4 * (x - tile.x0) as usize + 4 * c;
                 let hit = ((solved.hit >> k) & (u64::MAX >> (64 - m))) as u32;
                 if hit == 0 {
-                    for px in row[o..o + 4 * m].chunks_exact_mut(4) {
-                        px.copy_from_slice(&[bg[0], bg[1], bg[2], 255]);
-                    }
+                    fill_background(bg, &mut row[o..o + 4 * m]);
                     c += m;
                     continue;
                 }
@@ -4044,10 +4045,7 @@ pub fn render_with(
             *dirty = caster.cast_tile_hits(camera, &t, hits);
             if !*dirty {
                 for (row, y) in rows.iter_mut().zip(t.y0..) {
-                    let bg = shader.background(y);
-                    for px in row.chunks_exact_mut(4) {
-                        px.copy_from_slice(&[bg[0], bg[1], bg[2], 255]);
-                    }
+                    fill_background(shader.background(y), row);
                 }
                 return;
             }
