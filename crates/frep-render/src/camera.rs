@@ -396,6 +396,32 @@ impl RayMaker {
         }
     }
 
+    /// The origins of the `L` rays from `(x0, py)` along row `py` of an
+    /// orthographic view, as lanes (`origin[k][j]`): [`RayMaker::row_lanes`]'
+    /// origins, bit for bit, without the directions (every ray's is the
+    /// camera's axis). Only for orthographic views.
+    // (The lane passes index several arrays at once.)
+    #[allow(clippy::needless_range_loop)]
+    #[inline(always)]
+    pub fn ortho_row_origins<const L: usize>(&self, x0: u32, py: u32, origin: [&mut [f64; L]; 3]) {
+        debug_assert!(matches!(
+            self.cam.projection,
+            Projection::Orthographic { .. }
+        ));
+        let c = &self.cam;
+        let v = (self.hh - (py as f64 + 0.5)) / self.s;
+        let row = scale(c.up, v * self.k);
+        let mut uk = [0.0f64; L];
+        for (j, uk) in uk.iter_mut().enumerate() {
+            *uk = (f64::from(x0) + j as f64 + 0.5 - self.hw) / self.s * self.k;
+        }
+        for (k, o) in origin.into_iter().enumerate() {
+            for j in 0..L {
+                o[j] = c.eye[k] + (c.right[k] * uk[j] + row[k]);
+            }
+        }
+    }
+
     /// [`Camera::pixel_footprint`].
     #[inline]
     pub fn pixel_footprint(&self, t: f64) -> f64 {
@@ -504,6 +530,31 @@ mod tests {
                             for k in 0..3 {
                                 assert_eq!(o[k][j].to_bits(), r.origin[k].to_bits());
                                 assert_eq!(d[k][j].to_bits(), r.dir[k].to_bits());
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// `ortho_row_origins` gives `ray`'s origins bit for bit, at odd and
+    /// even sizes, past the image's right edge too.
+    #[test]
+    #[allow(clippy::needless_range_loop)]
+    fn ortho_row_origins_match_ray() {
+        let b = Aabb::new([-1.0, 0.5, -2.0], [3.0, 1.5, 0.0]);
+        for (yaw, pitch) in [(130.0, -35.0), (0.0, 90.0)] {
+            for (w, h) in [(7, 5), (64, 48)] {
+                let rm = Camera::orbit(&b, yaw, pitch, None).rays(w, h);
+                for py in 0..h {
+                    for x0 in (0..w).step_by(8) {
+                        let mut o = [[0.0; 8]; 3];
+                        rm.ortho_row_origins(x0, py, o.each_mut());
+                        for j in 0..8 {
+                            let r = rm.ray(x0 + j as u32, py);
+                            for k in 0..3 {
+                                assert_eq!(o[k][j].to_bits(), r.origin[k].to_bits());
                             }
                         }
                     }

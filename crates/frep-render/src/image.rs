@@ -681,7 +681,7 @@ impl Shader {
             fill_background(bg, rgba);
             return;
         }
-        self.shade_lanes(bg, &lanes, hit, rgba);
+        self.shade_lanes(bg, lanes.view(), hit, rgba);
     }
 
     /// Whether shading reads the hits' positions ([`ShadeLanes::p`]): in
@@ -694,10 +694,10 @@ impl Shader {
     /// `hit`; else the background `bg`) with `lanes`' values at `j` gives
     /// the pixel `rgba[4j..4j + 4]` (alpha 255), for the pixels `rgba`
     /// holds. What [`Shader::span`] does once it has gathered its hits.
-    pub(crate) fn shade_lanes(&self, bg: [u8; 3], lanes: &ShadeLanes, hit: u32, rgba: &mut [u8]) {
+    pub(crate) fn shade_lanes(&self, bg: [u8; 3], lanes: ShadeIn, hit: u32, rgba: &mut [u8]) {
         let lighting = &self.lighting;
         let cam = &self.camera;
-        let ShadeLanes { n, p, albedo, aof } = lanes;
+        let ShadeIn { n, p, albedo, aof } = lanes;
         let f32s = |v: [f64; 3]| v.map(|c| c as f32);
         let (key, fill, rim) = (f32s(self.key), f32s(self.fill), f32s(self.rim));
         // The normals scaled by a power of two (exact) so that their
@@ -844,6 +844,27 @@ impl ShadeLanes {
             aof: [1.0; SPAN],
         }
     }
+
+    /// The lanes as [`Shader::shade_lanes`] reads them.
+    pub(crate) fn view(&self) -> ShadeIn<'_> {
+        ShadeIn {
+            n: self.n.each_ref(),
+            p: self.p.each_ref(),
+            albedo: &self.albedo,
+            aof: &self.aof,
+        }
+    }
+}
+
+/// What [`Shader::shade_lanes`] reads ([`ShadeLanes`]' fields), by
+/// reference: normals and positions may be read where they lie (the
+/// closed form's solved arrays), not copied first.
+#[derive(Clone, Copy)]
+pub(crate) struct ShadeIn<'a> {
+    pub n: [&'a [f64; SPAN]; 3],
+    pub p: [&'a [f64; SPAN]; 3],
+    pub albedo: &'a [[f32; SPAN]; 3],
+    pub aof: &'a [f32; SPAN],
 }
 
 /// Per lane of normals `nf` (any length; unusable ones give way to the
@@ -857,7 +878,15 @@ fn light_terms(
     (key, fill, rim): ([f32; 3], [f32; 3], [f32; 3]),
     vh: impl Fn(usize) -> ([f32; 3], [f32; 3]),
 ) -> [[f32; SPAN]; 5] {
-    let mut t = [[0.0f32; SPAN]; 5];
+    // (Five arrays, not one of five: one that large is cleared by a call
+    // first.)
+    let (mut hemi, mut kd, mut fd, mut rd, mut sx) = (
+        [0.0f32; SPAN],
+        [0.0f32; SPAN],
+        [0.0f32; SPAN],
+        [0.0f32; SPAN],
+        [0.0f32; SPAN],
+    );
     for j in 0..SPAN {
         let g = [nf[0][j], nf[1][j], nf[2][j]];
         let l2 = dot_f32(g, g);
@@ -871,13 +900,13 @@ fn light_terms(
         };
         let flip = if dot_f32(nn, v) < 0.0 { -1.0 } else { 1.0 };
         let nn = [nn[0] * flip, nn[1] * flip, nn[2] * flip];
-        t[0][j] = 0.5 + 0.5 * nn[2];
-        t[1][j] = dot_f32(nn, key).max(0.0);
-        t[2][j] = dot_f32(nn, fill).max(0.0);
-        t[3][j] = dot_f32(nn, rim).max(0.0);
-        t[4][j] = dot_f32(nn, half).max(0.0);
+        hemi[j] = 0.5 + 0.5 * nn[2];
+        kd[j] = dot_f32(nn, key).max(0.0);
+        fd[j] = dot_f32(nn, fill).max(0.0);
+        rd[j] = dot_f32(nn, rim).max(0.0);
+        sx[j] = dot_f32(nn, half).max(0.0);
     }
-    t
+    [hemi, kd, fd, rd, sx]
 }
 
 #[inline(always)]

@@ -140,7 +140,9 @@ use frep_core::simplify::{ChoiceMask, Simplifier, SimplifyMode};
 use frep_core::{Model, Tape};
 
 use crate::camera::{dot, sub, Aabb, Camera, Projection, RayMaker};
-use crate::image::{fill_background, Hit, HitBuffer, Image, Lighting, ShadeLanes, Shader, SPAN};
+use crate::image::{
+    fill_background, Hit, HitBuffer, Image, Lighting, ShadeIn, ShadeLanes, Shader, SPAN,
+};
 use crate::tiles::{cast_tiled, for_each_dynamic, tile_rows, tiles, Tile, TileCaster};
 
 mod csg;
@@ -285,7 +287,7 @@ pub struct ModelCaster {
     /// with the rayon thread that last used it: that thread takes it
     /// again (its caches warm in that core's), another one only when none
     /// of its own is free.
-    pool: Mutex<Vec<(Option<usize>, Scratch)>>,
+    pool: Mutex<Vec<(Option<usize>, Box<Scratch>)>>,
 }
 
 impl ModelCaster {
@@ -483,7 +485,7 @@ impl ModelCaster {
 
     /// A [`Scratch`] from the pool (the one this thread last used where it
     /// is free), or a new one.
-    fn take_scratch(&self) -> Scratch {
+    fn take_scratch(&self) -> Box<Scratch> {
         let me = rayon::current_thread_index();
         let scratch = self.pool.lock().ok().and_then(|mut p| {
             let j = p
@@ -492,14 +494,14 @@ impl ModelCaster {
                 .or(p.len().checked_sub(1))?;
             Some(p.swap_remove(j).1)
         });
-        let mut scratch = scratch.unwrap_or_else(|| Scratch::new(&self.tape));
+        let mut scratch = scratch.unwrap_or_else(|| Box::new(Scratch::new(&self.tape)));
         scratch.trim();
         scratch.trig = self.trig;
         scratch
     }
 
     /// Returns `scratch` to the pool.
-    fn put_scratch(&self, scratch: Scratch) {
+    fn put_scratch(&self, scratch: Box<Scratch>) {
         if let Ok(mut p) = self.pool.lock() {
             p.push((rayon::current_thread_index(), scratch));
         }
@@ -582,8 +584,14 @@ impl ModelCaster {
             .then(|| per_dir(forward, forward));
         let mut cf = sc.closed_form.take().unwrap_or_default();
         let (lanes, work, solved) = &mut *cf;
-        // (Every ray of an orthographic view has the camera's direction.)
+        // (Every ray of an orthographic view has the camera's direction:
+        // the direction arrays are written once here, not per ray.)
         lanes.dir = fixed.map(|(_, dz, _)| dz);
+        if let Some((_, dz, _)) = fixed {
+            for (d, v) in lanes.d.iter_mut().zip(dz) {
+                *d = [v; BLOCK];
+            }
+        }
         let mut shade = ShadeLanes::plain(shader.base());
         // The block's runs of pixels: (row, first column, first lane,
         // length).
@@ -614,8 +622,14 @@ impl ModelCaster {
                 }
                 let mut j = 0;
                 while j < len {
-                    ray_lanes(&self.bounds, forward, fixed, &rm, (x + j as u32, py), r);
                     let (k, m) = (n + j, L.min(len - j));
+                    if let (Some((c, _, inv)), true) = (fixed, m == L) {
+                        // (Straight into the lanes: origins and depths.)
+                        ortho_lanes(&self.bounds, (c, inv), &rm, (x + j as u32, py), lanes, k);
+                        j += L;
+                        continue;
+                    }
+                    ray_lanes(&self.bounds, forward, fixed, &rm, (x + j as u32, py), r);
                     if m == L {
                         // (A copy of known length: no call. The other
                         // case is a function of its own, so that the
@@ -712,14 +726,17 @@ impl ModelCaster {
                     c += m;
                     continue;
                 }
-                if m == SPAN {
-                    // (A copy of known length: no call.)
-                    for a in 0..3 {
-                        shade.n[a].copy_from_slice(&solved.n[a][k..k + SPAN]);
-                        if persp {
-                            shade.p[a].copy_from_slice(&solved.p[a][k..k + SPAN]);
-                        }
-                    }
+                let pixels = &mut row[o..o + 4 * m];
+                let span = (m == SPAN).then(|| (span_at(&solved.n, k), span_at(&solved.p, k)));
+                if let Some((Some(n), Some(p))) = span {
+                    // A whole pass: read where the solver wrote (no copy).
+                    let lanes = ShadeIn {
+                        n,
+                        p,
+                        albedo: &shade.albedo,
+                        aof: &shade.aof,
+                    };
+                    shader.shade_lanes(bg, lanes, hit, pixels);
                 } else {
                     for a in 0..3 {
                         shade.n[a][..m].copy_from_slice(&solved.n[a][k..k + m]);
@@ -727,13 +744,20 @@ impl ModelCaster {
                             shade.p[a][..m].copy_from_slice(&solved.p[a][k..k + m]);
                         }
                     }
+                    shader.shade_lanes(bg, shade.view(), hit, pixels);
                 }
-                shader.shade_lanes(bg, shade, hit, &mut row[o..o + 4 * m]);
                 c += m;
             }
         }
         true
     }
+}
+
+/// Lanes `k..k + SPAN` of three arrays of a block, where they lie within
+/// it.
+fn span_at(v: &[[f64; BLOCK]; 3], k: usize) -> Option<[&[f64; SPAN]; 3]> {
+    let [a, b, c] = v.each_ref().map(|v| v[k..].first_chunk::<SPAN>());
+    Some([a?, b?, c?])
 }
 
 /// The evaluators of one (possibly shortened) tape.
@@ -1917,6 +1941,48 @@ fn ray_lanes(
         } else {
             f64::NEG_INFINITY
         };
+    }
+}
+
+/// [`ray_lanes`] in an orthographic view (`c` and `inv`: the [`per_dir`]
+/// terms of the camera's axis, which every ray shares) for the rays of
+/// pixels `x..x + SETUP_LANES` of row `py`, written straight into lanes
+/// `k..k + SETUP_LANES` of `lanes`: their origins and depth ranges, the
+/// same bits (the directions are the caller's, written once).
+#[inline(always)]
+fn ortho_lanes(
+    bounds: &Aabb,
+    (c, inv): (f64, [f64; 3]),
+    rm: &RayMaker,
+    (x, py): (u32, u32),
+    lanes: &mut Lanes,
+    k: usize,
+) {
+    const L: usize = SETUP_LANES;
+    fn lane(v: &mut [f64; BLOCK], k: usize) -> &mut [f64; L] {
+        (&mut v[k..k + L]).try_into().expect("SETUP_LANES lanes")
+    }
+    let [o0, o1, o2] = &mut lanes.o;
+    rm.ortho_row_origins(x, py, [lane(o0, k), lane(o1, k), lane(o2, k)]);
+    let o = [lane(o0, k), lane(o1, k), lane(o2, k)];
+    // `Ray::clip_inv`, with selects, as in `ray_lanes`.
+    let mut t0 = [0.0f64; L];
+    let mut t1 = [f64::INFINITY; L];
+    for a in 0..3 {
+        for j in 0..L {
+            let p = (bounds.min[a] - o[a][j]) * inv[a];
+            let q = (bounds.max[a] - o[a][j]) * inv[a];
+            let swap = p > q;
+            let (lo, hi) = (if swap { q } else { p }, if swap { p } else { q });
+            t0[j] = if lo > t0[j] { lo } else { t0[j] };
+            t1[j] = if hi < t1[j] { hi } else { t1[j] };
+        }
+    }
+    let (z0, z1) = (lane(&mut lanes.z0, k), lane(&mut lanes.z1, k));
+    for j in 0..L {
+        let live = t0[j] <= t1[j];
+        z0[j] = if live { t0[j] * c } else { f64::INFINITY };
+        z1[j] = if live { t1[j] * c } else { f64::NEG_INFINITY };
     }
 }
 

@@ -1366,6 +1366,9 @@ fn set_expressions_match_the_general_caster() {
 /// its emptiness check and one per box face its rays can enter by, and no
 /// samples. The slab whose face lies on the model
 /// box's gives its tiles to the general caster, with the same image.
+/// Tiles 16 wide, and 32 wide with a last column of 12: whole shading
+/// passes (read where the solver wrote them) and partial ones, whole and
+/// partial passes of ray set-up.
 #[test]
 fn closed_form_tiles_equal_shaded_hits() {
     for (name, src, b) in set_expression_models() {
@@ -1373,26 +1376,30 @@ fn closed_form_tiles_equal_shaded_hits() {
             continue;
         }
         let model = Model::compile(&src).unwrap();
-        for (yaw, pitch, fov) in CSG_VIEWS {
+        for ((yaw, pitch, fov), (w, h, tile)) in CSG_VIEWS
+            .into_iter()
+            .flat_map(|v| [(v, (80, 70, 16)), (v, (76, 70, 32))])
+        {
             let s = RenderSettings {
                 yaw,
                 pitch,
                 fov,
-                ..settings(b, 80, 70)
+                tile_size: tile,
+                ..settings(b, w, h)
             };
             let cam = s.camera();
             let c = ModelCaster::new(&model, Inputs::default(), b);
             let img = frep_render::render_with(&c, &s, &cam, None).unwrap();
             let st = c.stats();
             let c2 = ModelCaster::new(&model, Inputs::default(), b);
-            let hits = cast_tiled(&c2, &cam, 80, 70, 16);
+            let hits = cast_tiled(&c2, &cam, w, h, tile);
             assert!(hits.hit_count() > 100, "{name} yaw {yaw}");
             let whole = shade(&hits, &s.lighting);
-            assert_eq!(img.rgba, whole.rgba, "{name} yaw {yaw}");
+            assert_eq!(img.rgba, whole.rgba, "{name} yaw {yaw} tile {tile}");
             if name != "slab on the box" {
                 // Per tile, its emptiness check and one per box face its
                 // rays can enter by (at most three).
-                let tiles = 5 * 5;
+                let tiles = w.div_ceil(tile) as u64 * h.div_ceil(tile) as u64;
                 assert!(
                     (tiles..=4 * tiles).contains(&st.interval_evals),
                     "{name} yaw {yaw}: {st:?}"

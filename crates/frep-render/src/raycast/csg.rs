@@ -161,7 +161,8 @@ pub(super) struct Solved {
     pub p: [[f64; BLOCK]; 3],
     /// The outward normal at a leaf's hit, facing the ray: the leaf's
     /// gradient, of any length (shading normalises it; not here, which
-    /// would cost a square root and a division per lane).
+    /// would cost a square root and a division per lane). Any value in a
+    /// lane whose hit is on no leaf.
     pub n: [[f64; BLOCK]; 3],
 }
 
@@ -316,8 +317,9 @@ impl Csg {
             p: pos,
             ..
         } = s;
-        *best = [f64::INFINITY; B];
-        *leaf = [ENTRY; B];
+        // (Written by the first candidate that some lane may take, or
+        // below where none is.)
+        let mut fresh = true;
         let mut bad = 0u64;
         let mut live = 0u64;
         for k in 0..n {
@@ -377,15 +379,28 @@ impl Csg {
             }
             bad |= valid & unclear;
             let inside = self.holds(&m, stack) & valid;
+            let own = own.map_or(ENTRY, |j| j as u64);
+            if fresh {
+                // The first: nothing to keep (a select of constants, where
+                // one of the array's own values compiles to a masked
+                // store, slow).
+                for k in 0..B {
+                    let take = ((inside >> k) & 1 != 0) & (at[k] < f64::INFINITY);
+                    best[k] = if take { at[k] } else { f64::INFINITY };
+                    leaf[k] = if take { own } else { ENTRY };
+                }
+                fresh = false;
+                continue;
+            }
             for k in 0..B {
                 let take = ((inside >> k) & 1 != 0) & (at[k] < best[k]);
                 best[k] = if take { at[k] } else { best[k] };
-                leaf[k] = if take {
-                    own.map_or(ENTRY, |j| j as u64)
-                } else {
-                    leaf[k]
-                };
+                leaf[k] = if take { own } else { leaf[k] };
             }
+        }
+        if fresh {
+            *best = [f64::INFINITY; B];
+            *leaf = [ENTRY; B];
         }
         let mut grazing = 0u64;
         for lr in leaves {
@@ -401,31 +416,21 @@ impl Csg {
             }
         }
         let mut finite = 0u64;
+        let mut first = true;
         for (j, q) in self.leaves.iter().enumerate() {
             // (Only the leaves some lane hits.)
             if !leaf[..n].contains(&(j as u64)) {
                 continue;
             }
-            let [[a00, a01, a02], [_, a11, a12], [_, _, a22]] = q.a;
-            let (g0, p0) = (q.g, q.p0);
-            for k in 0..B {
-                // `Quadric::grad`, written out.
-                let u = [pos[0][k] - p0[0], pos[1][k] - p0[1], pos[2][k] - p0[2]];
-                let g = [
-                    g0[0] + 2.0 * (a00 * u[0] + a01 * u[1] + a02 * u[2]),
-                    g0[1] + 2.0 * (a01 * u[0] + a11 * u[1] + a12 * u[2]),
-                    g0[2] + 2.0 * (a02 * u[0] + a12 * u[1] + a22 * u[2]),
-                ];
-                let slope = g[0] * l.d[0][k] + g[1] * l.d[1][k] + g[2] * l.d[2][k];
-                let len2 = g[0] * g[0] + g[1] * g[1] + g[2] * g[2];
-                let f = -slope.signum();
-                let mine = leaf[k] == j as u64;
-                for a in 0..3 {
-                    nrm[a][k] = if mine { g[a] * f } else { nrm[a][k] };
-                }
-                let ok = (len2 > f64::MIN_POSITIVE) & (len2 < f64::MAX);
-                finite |= u64::from(mine & ok) << k;
-            }
+            // The first such leaf writes every lane (a plain store, where a
+            // select compiles to a masked store, slow): lanes it does not
+            // hit are the later leaves' to write, or have no leaf normal.
+            finite |= if first {
+                leaf_normals::<true>(q, j, l, pos, leaf, nrm)
+            } else {
+                leaf_normals::<false>(q, j, l, pos, leaf, nrm)
+            };
+            first = false;
         }
         let entry = {
             let mut e = 0u64;
@@ -446,6 +451,45 @@ impl Csg {
         s.sure = live & !bad & !grazing & normal_ok;
         s.hit = hit;
     }
+}
+
+/// The normals of leaf `j` (quadric `q`) at the hits of the lanes of `l`
+/// whose hit is on it (`leaf`, positions `pos`): its gradient, facing the
+/// ray, into `nrm` (every lane where `ALL`, else those lanes only).
+/// Returns the lanes whose hit is on it with a usable gradient.
+// (The lane passes index several arrays at once.)
+#[allow(clippy::needless_range_loop)]
+#[inline(always)]
+fn leaf_normals<const ALL: bool>(
+    q: &Quadric,
+    j: usize,
+    l: &Lanes,
+    pos: &[[f64; BLOCK]; 3],
+    leaf: &[u64; BLOCK],
+    nrm: &mut [[f64; BLOCK]; 3],
+) -> u64 {
+    let [[a00, a01, a02], [_, a11, a12], [_, _, a22]] = q.a;
+    let (g0, p0) = (q.g, q.p0);
+    let mut finite = 0u64;
+    for k in 0..BLOCK {
+        // `Quadric::grad`, written out.
+        let u = [pos[0][k] - p0[0], pos[1][k] - p0[1], pos[2][k] - p0[2]];
+        let g = [
+            g0[0] + 2.0 * (a00 * u[0] + a01 * u[1] + a02 * u[2]),
+            g0[1] + 2.0 * (a01 * u[0] + a11 * u[1] + a12 * u[2]),
+            g0[2] + 2.0 * (a02 * u[0] + a12 * u[1] + a22 * u[2]),
+        ];
+        let slope = g[0] * l.d[0][k] + g[1] * l.d[1][k] + g[2] * l.d[2][k];
+        let len2 = g[0] * g[0] + g[1] * g[1] + g[2] * g[2];
+        let f = -slope.signum();
+        let mine = leaf[k] == j as u64;
+        for a in 0..3 {
+            nrm[a][k] = if ALL | mine { g[a] * f } else { nrm[a][k] };
+        }
+        let ok = (len2 > f64::MIN_POSITIVE) & (len2 < f64::MAX);
+        finite |= u64::from(mine & ok) << k;
+    }
+    finite
 }
 
 /// The working arrays of [`Csg::solve`] (kept from block to block: every
