@@ -697,7 +697,7 @@ impl Shader {
     pub(crate) fn shade_lanes(&self, bg: [u8; 3], lanes: ShadeIn, hit: u32, rgba: &mut [u8]) {
         let lighting = &self.lighting;
         let cam = &self.camera;
-        let ShadeIn { n, p, albedo, aof } = lanes;
+        let ShadeIn { n, p, material } = lanes;
         let f32s = |v: [f64; 3]| v.map(|c| c as f32);
         let (key, fill, rim) = (f32s(self.key), f32s(self.fill), f32s(self.rim));
         // The normals scaled by a power of two (exact) so that their
@@ -765,11 +765,12 @@ impl Shader {
                 lighting.fill.color[k],
                 lighting.rim.color[k],
             );
-            for j in 0..SPAN {
-                let ao = aof[j];
-                let amb = (sky * hemi[j] + ground * (1.0 - hemi[j])) * ao;
-                let diffuse = kc * kd[j] + fc * fd[j] + rc * rd[j];
-                lin[j] = albedo[k][j] * (amb + diffuse * (0.35 + 0.65 * ao)) + spec[j] * kc * ao;
+            let terms = ([sky, ground, kc, fc, rc], [&hemi, &kd, &fd, &rd, &spec]);
+            match material {
+                // (The default material, open: the same values, its
+                // constants folded.)
+                None => light_channel(lin, terms, |_| self.base[k], |_| 1.0),
+                Some((albedo, aof)) => light_channel(lin, terms, |j| albedo[k][j], |j| aof[j]),
             }
         }
         // The bytes of every lane first (no branch per pixel), then the
@@ -850,8 +851,7 @@ impl ShadeLanes {
         ShadeIn {
             n: self.n.each_ref(),
             p: self.p.each_ref(),
-            albedo: &self.albedo,
-            aof: &self.aof,
+            material: Some((&self.albedo, &self.aof)),
         }
     }
 }
@@ -863,8 +863,9 @@ impl ShadeLanes {
 pub(crate) struct ShadeIn<'a> {
     pub n: [&'a [f64; SPAN]; 3],
     pub p: [&'a [f64; SPAN]; 3],
-    pub albedo: &'a [[f32; SPAN]; 3],
-    pub aof: &'a [f32; SPAN],
+    /// The albedo and ambient-occlusion factor per lane; `None`: the
+    /// shader's default material, fully open, in every lane.
+    pub material: Option<(&'a [[f32; SPAN]; 3], &'a [f32; SPAN])>,
 }
 
 /// Per lane of normals `nf` (any length; unusable ones give way to the
@@ -907,6 +908,25 @@ fn light_terms(
         sx[j] = dot_f32(nn, half).max(0.0);
     }
     [hemi, kd, fd, rd, sx]
+}
+
+/// One colour channel's linear value per lane, from its sky, ground and
+/// light colours `[sky, ground, key, fill, rim]` and the lanes' light
+/// terms `[hemisphere blend, key, fill, rim, specular]`, with the albedo
+/// and ambient-occlusion factor of lane `j`.
+#[inline(always)]
+fn light_channel(
+    lin: &mut [f32; SPAN],
+    ([sky, ground, kc, fc, rc], [hemi, kd, fd, rd, spec]): ([f32; 5], [&[f32; SPAN]; 5]),
+    albedo: impl Fn(usize) -> f32,
+    aof: impl Fn(usize) -> f32,
+) {
+    for j in 0..SPAN {
+        let ao = aof(j);
+        let amb = (sky * hemi[j] + ground * (1.0 - hemi[j])) * ao;
+        let diffuse = kc * kd[j] + fc * fd[j] + rc * rd[j];
+        lin[j] = albedo(j) * (amb + diffuse * (0.35 + 0.65 * ao)) + spec[j] * kc * ao;
+    }
 }
 
 #[inline(always)]

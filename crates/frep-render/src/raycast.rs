@@ -733,8 +733,7 @@ impl ModelCaster {
                     let lanes = ShadeIn {
                         n,
                         p,
-                        albedo: &shade.albedo,
-                        aof: &shade.aof,
+                        material: None,
                     };
                     shader.shade_lanes(bg, lanes, hit, pixels);
                 } else {
@@ -744,7 +743,11 @@ impl ModelCaster {
                             shade.p[a][..m].copy_from_slice(&solved.p[a][k..k + m]);
                         }
                     }
-                    shader.shade_lanes(bg, shade.view(), hit, pixels);
+                    let lanes = ShadeIn {
+                        material: None,
+                        ..shade.view()
+                    };
+                    shader.shade_lanes(bg, lanes, hit, pixels);
                 }
                 c += m;
             }
