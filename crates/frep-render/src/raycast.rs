@@ -1922,25 +1922,42 @@ fn ray_lanes(
             }
         }
     }
-    // `Ray::clip_inv`, with selects.
+    clip_lanes(bounds, o.each_ref(), |a, j| inv[a][j], |j| c[j], (z0, z1));
+}
+
+/// The depths `z0 ≤ z1` of the part inside `bounds` of the `L` rays from
+/// origins `o` with reciprocal directions `inv(axis, lane)` and depth
+/// scales `c(lane)` (`[+∞, −∞]` where a ray misses it):
+/// [`Ray::clip_inv`](crate::camera::Ray::clip_inv) with selects, the
+/// depths `t·c`. (One body for [`ray_lanes`] and [`ortho_lanes`]: the same
+/// bits.)
+// (The lane passes index several arrays at once.)
+#[allow(clippy::needless_range_loop)]
+#[inline(always)]
+fn clip_lanes<const L: usize>(
+    bounds: &Aabb,
+    o: [&[f64; L]; 3],
+    inv: impl Fn(usize, usize) -> f64,
+    c: impl Fn(usize) -> f64,
+    (z0, z1): (&mut [f64; L], &mut [f64; L]),
+) {
     let mut t0 = [0.0f64; L];
     let mut t1 = [f64::INFINITY; L];
     for a in 0..3 {
         for j in 0..L {
-            let p = (bounds.min[a] - o[a][j]) * inv[a][j];
-            let q = (bounds.max[a] - o[a][j]) * inv[a][j];
+            let p = (bounds.min[a] - o[a][j]) * inv(a, j);
+            let q = (bounds.max[a] - o[a][j]) * inv(a, j);
             let swap = p > q;
             let (lo, hi) = (if swap { q } else { p }, if swap { p } else { q });
             t0[j] = if lo > t0[j] { lo } else { t0[j] };
             t1[j] = if hi < t1[j] { hi } else { t1[j] };
         }
     }
-    // The depths (`t·c`; a miss `[+∞, −∞]`).
     for j in 0..L {
         let live = t0[j] <= t1[j];
-        z0[j] = if live { t0[j] * c[j] } else { f64::INFINITY };
+        z0[j] = if live { t0[j] * c(j) } else { f64::INFINITY };
         z1[j] = if live {
-            t1[j] * c[j]
+            t1[j] * c(j)
         } else {
             f64::NEG_INFINITY
         };
@@ -1967,26 +1984,9 @@ fn ortho_lanes(
     }
     let [o0, o1, o2] = &mut lanes.o;
     rm.ortho_row_origins(x, py, [lane(o0, k), lane(o1, k), lane(o2, k)]);
-    let o = [lane(o0, k), lane(o1, k), lane(o2, k)];
-    // `Ray::clip_inv`, with selects, as in `ray_lanes`.
-    let mut t0 = [0.0f64; L];
-    let mut t1 = [f64::INFINITY; L];
-    for a in 0..3 {
-        for j in 0..L {
-            let p = (bounds.min[a] - o[a][j]) * inv[a];
-            let q = (bounds.max[a] - o[a][j]) * inv[a];
-            let swap = p > q;
-            let (lo, hi) = (if swap { q } else { p }, if swap { p } else { q });
-            t0[j] = if lo > t0[j] { lo } else { t0[j] };
-            t1[j] = if hi < t1[j] { hi } else { t1[j] };
-        }
-    }
-    let (z0, z1) = (lane(&mut lanes.z0, k), lane(&mut lanes.z1, k));
-    for j in 0..L {
-        let live = t0[j] <= t1[j];
-        z0[j] = if live { t0[j] * c } else { f64::INFINITY };
-        z1[j] = if live { t1[j] * c } else { f64::NEG_INFINITY };
-    }
+    let o = [&*lane(o0, k), &*lane(o1, k), &*lane(o2, k)];
+    let z = (lane(&mut lanes.z0, k), lane(&mut lanes.z1, k));
+    clip_lanes(bounds, o, |a, _| inv[a], |_| c, z);
 }
 
 /// The least and greatest depth (distance along the viewing direction
