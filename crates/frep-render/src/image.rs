@@ -586,11 +586,6 @@ impl Shader {
         [rgba[0], rgba[1], rgba[2]]
     }
 
-    /// The default material's linear albedo.
-    pub(crate) fn base(&self) -> [f32; 3] {
-        self.base
-    }
-
     /// The background colour of row `y` (the vertical gradient).
     pub(crate) fn background(&self, y: u32) -> [u8; 3] {
         let lighting = &self.lighting;
@@ -835,17 +830,6 @@ pub(crate) struct ShadeLanes {
 }
 
 impl ShadeLanes {
-    /// Lanes of the default material, fully open, ready for normals and
-    /// positions.
-    pub(crate) fn plain(base: [f32; 3]) -> ShadeLanes {
-        ShadeLanes {
-            n: [[0.0; SPAN]; 3],
-            p: [[0.0; SPAN]; 3],
-            albedo: base.map(|b| [b; SPAN]),
-            aof: [1.0; SPAN],
-        }
-    }
-
     /// The lanes as [`Shader::shade_lanes`] reads them.
     pub(crate) fn view(&self) -> ShadeIn<'_> {
         ShadeIn {

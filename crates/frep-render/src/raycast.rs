@@ -140,9 +140,7 @@ use frep_core::simplify::{ChoiceMask, Simplifier, SimplifyMode};
 use frep_core::{Model, Tape};
 
 use crate::camera::{dot, sub, Aabb, Camera, Projection, RayMaker};
-use crate::image::{
-    fill_background, Hit, HitBuffer, Image, Lighting, ShadeIn, ShadeLanes, Shader, SPAN,
-};
+use crate::image::{fill_background, Hit, HitBuffer, Image, Lighting, ShadeIn, Shader, SPAN};
 use crate::tiles::{cast_tiled, for_each_dynamic, tile_rows, tiles, Tile, TileCaster};
 
 mod csg;
@@ -592,7 +590,9 @@ impl ModelCaster {
                 *d = [v; BLOCK];
             }
         }
-        let mut shade = ShadeLanes::plain(shader.base());
+        // Normals and positions of a partial pass (a whole one is read
+        // where the solver wrote it).
+        let mut shade = ([[0.0; SPAN]; 3], [[0.0; SPAN]; 3]);
         // The block's runs of pixels: (row, first column, first lane,
         // length).
         let mut runs = [(0u32, 0u32, 0usize, 0usize); BLOCK];
@@ -681,7 +681,7 @@ impl ModelCaster {
         (lanes, work, solved): (&mut Lanes, &mut Work, &mut Solved),
         runs: &[(u32, u32, usize, usize)],
         n: usize,
-        shade: &mut ShadeLanes,
+        (sn, sp): &mut ([[f64; SPAN]; 3], [[f64; SPAN]; 3]),
         stats: &mut CastStats,
     ) -> bool {
         csg.solve(lanes, n, work, solved, entry);
@@ -726,29 +726,28 @@ impl ModelCaster {
                     c += m;
                     continue;
                 }
-                let pixels = &mut row[o..o + 4 * m];
                 let span = (m == SPAN).then(|| (span_at(&solved.n, k), span_at(&solved.p, k)));
-                if let Some((Some(n), Some(p))) = span {
+                let (n, p) = match span {
                     // A whole pass: read where the solver wrote (no copy).
-                    let lanes = ShadeIn {
-                        n,
-                        p,
-                        material: None,
-                    };
-                    shader.shade_lanes(bg, lanes, hit, pixels);
-                } else {
-                    for a in 0..3 {
-                        shade.n[a][..m].copy_from_slice(&solved.n[a][k..k + m]);
-                        if persp {
-                            shade.p[a][..m].copy_from_slice(&solved.p[a][k..k + m]);
+                    Some((Some(n), Some(p))) => (n, p),
+                    _ => {
+                        for a in 0..3 {
+                            sn[a][..m].copy_from_slice(&solved.n[a][k..k + m]);
+                            if persp {
+                                sp[a][..m].copy_from_slice(&solved.p[a][k..k + m]);
+                            }
                         }
+                        (sn.each_ref(), sp.each_ref())
                     }
-                    let lanes = ShadeIn {
-                        material: None,
-                        ..shade.view()
-                    };
-                    shader.shade_lanes(bg, lanes, hit, pixels);
-                }
+                };
+                // (The default material, fully open: no colours, no
+                // occlusion here.)
+                let lanes = ShadeIn {
+                    n,
+                    p,
+                    material: None,
+                };
+                shader.shade_lanes(bg, lanes, hit, &mut row[o..o + 4 * m]);
                 c += m;
             }
         }
