@@ -396,14 +396,30 @@ impl RayMaker {
         }
     }
 
-    /// The origins of the `L` rays from `(x0, py)` along row `py` of an
-    /// orthographic view, as lanes (`origin[k][j]`): [`RayMaker::row_lanes`]'
-    /// origins, bit for bit, without the directions (every ray's is the
-    /// camera's axis). Only for orthographic views.
+    /// The per-column terms of an orthographic view's origins for columns
+    /// `x0..x0 + out.len()` (see [`RayMaker::ortho_row_origins`]), which
+    /// every row shares: worked out once per tile, not per row (a division
+    /// each).
+    pub fn ortho_columns(&self, x0: u32, out: &mut [f64]) {
+        for (j, uk) in out.iter_mut().enumerate() {
+            *uk = (f64::from(x0) + j as f64 + 0.5 - self.hw) / self.s * self.k;
+        }
+    }
+
+    /// The origins of the `L` rays of columns `uk` (their terms from
+    /// [`RayMaker::ortho_columns`]) along row `py` of an orthographic view,
+    /// as lanes (`origin[k][j]`): [`RayMaker::row_lanes`]' origins, bit for
+    /// bit, without the directions (every ray's is the camera's axis).
+    /// Only for orthographic views.
     // (The lane passes index several arrays at once.)
     #[allow(clippy::needless_range_loop)]
     #[inline(always)]
-    pub fn ortho_row_origins<const L: usize>(&self, x0: u32, py: u32, origin: [&mut [f64; L]; 3]) {
+    pub fn ortho_row_origins<const L: usize>(
+        &self,
+        uk: &[f64; L],
+        py: u32,
+        origin: [&mut [f64; L]; 3],
+    ) {
         debug_assert!(matches!(
             self.cam.projection,
             Projection::Orthographic { .. }
@@ -411,10 +427,6 @@ impl RayMaker {
         let c = &self.cam;
         let v = (self.hh - (py as f64 + 0.5)) / self.s;
         let row = scale(c.up, v * self.k);
-        let mut uk = [0.0f64; L];
-        for (j, uk) in uk.iter_mut().enumerate() {
-            *uk = (f64::from(x0) + j as f64 + 0.5 - self.hw) / self.s * self.k;
-        }
         for (k, o) in origin.into_iter().enumerate() {
             for j in 0..L {
                 o[j] = c.eye[k] + (c.right[k] * uk[j] + row[k]);
@@ -549,8 +561,9 @@ mod tests {
                 let rm = Camera::orbit(&b, yaw, pitch, None).rays(w, h);
                 for py in 0..h {
                     for x0 in (0..w).step_by(8) {
-                        let mut o = [[0.0; 8]; 3];
-                        rm.ortho_row_origins(x0, py, o.each_mut());
+                        let (mut o, mut uk) = ([[0.0; 8]; 3], [0.0; 8]);
+                        rm.ortho_columns(x0, &mut uk);
+                        rm.ortho_row_origins(&uk, py, o.each_mut());
                         for j in 0..8 {
                             let r = rm.ray(x0 + j as u32, py);
                             for k in 0..3 {

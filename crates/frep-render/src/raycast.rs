@@ -581,6 +581,13 @@ impl ModelCaster {
         let fixed = matches!(camera.projection, Projection::Orthographic { .. })
             .then(|| per_dir(forward, forward));
         let mut cf = sc.closed_form.take().unwrap_or_default();
+        // (Orthographic: the origins' per-column terms, which every row
+        // shares, once; as many as the passes of `SETUP_LANES` read.)
+        let cols = &mut sc.columns;
+        if fixed.is_some() {
+            cols.resize((tile.x1 - tile.x0).next_multiple_of(L as u32) as usize, 0.0);
+            rm.ortho_columns(tile.x0, cols);
+        }
         let (lanes, work, solved) = &mut *cf;
         // (Every ray of an orthographic view has the camera's direction:
         // the direction arrays are written once here, not per ray.)
@@ -625,7 +632,9 @@ impl ModelCaster {
                     let (k, m) = (n + j, L.min(len - j));
                     if let (Some((c, _, inv)), true) = (fixed, m == L) {
                         // (Straight into the lanes: origins and depths.)
-                        ortho_lanes(&self.bounds, (c, inv), &rm, (x + j as u32, py), lanes, k);
+                        let c0 = (x - tile.x0) as usize + j;
+                        let uk = cols[c0..c0 + L].try_into().expect("SETUP_LANES columns");
+                        ortho_lanes(&self.bounds, (c, inv), &rm, (uk, py), lanes, k);
                         j += L;
                         continue;
                     }
@@ -952,6 +961,9 @@ struct Scratch {
     /// ([`TileCtx::closed_form`], [`ModelCaster::closed_form_tile`]), once
     /// used.
     closed_form: Option<Box<(Lanes, Work, Solved)>>,
+    /// The closed form's per-column terms of an orthographic tile's ray
+    /// origins ([`RayMaker::ortho_columns`]).
+    columns: Vec<f64>,
     /// Hash of (parent, choices) → (parent, choices, child): the child is
     /// the parent itself where simplifying does not shorten the tape.
     children: FastMap<u64, Vec<ChildEntry>>,
@@ -1096,6 +1108,7 @@ impl Scratch {
         Scratch {
             evals: vec![Evals::new(tape.clone())],
             closed_form: None,
+            columns: Vec::new(),
             children: FastMap::default(),
             by_tape: FastMap::default(),
             bytes: tape.len() * NODE_BYTES,
@@ -1965,7 +1978,8 @@ fn clip_lanes<const L: usize>(
 
 /// [`ray_lanes`] in an orthographic view (`c` and `inv`: the [`per_dir`]
 /// terms of the camera's axis, which every ray shares) for the rays of
-/// pixels `x..x + SETUP_LANES` of row `py`, written straight into lanes
+/// the pixels of columns `uk` ([`RayMaker::ortho_columns`]) of row `py`,
+/// written straight into lanes
 /// `k..k + SETUP_LANES` of `lanes`: their origins and depth ranges, the
 /// same bits (the directions are the caller's, written once).
 #[inline(always)]
@@ -1973,7 +1987,7 @@ fn ortho_lanes(
     bounds: &Aabb,
     (c, inv): (f64, [f64; 3]),
     rm: &RayMaker,
-    (x, py): (u32, u32),
+    (uk, py): (&[f64; SETUP_LANES], u32),
     lanes: &mut Lanes,
     k: usize,
 ) {
@@ -1982,7 +1996,7 @@ fn ortho_lanes(
         (&mut v[k..k + L]).try_into().expect("SETUP_LANES lanes")
     }
     let [o0, o1, o2] = &mut lanes.o;
-    rm.ortho_row_origins(x, py, [lane(o0, k), lane(o1, k), lane(o2, k)]);
+    rm.ortho_row_origins(uk, py, [lane(o0, k), lane(o1, k), lane(o2, k)]);
     let o = [&*lane(o0, k), &*lane(o1, k), &*lane(o2, k)];
     let z = (lane(&mut lanes.z0, k), lane(&mut lanes.z1, k));
     clip_lanes(bounds, o, |a, _| inv[a], |_| c, z);
