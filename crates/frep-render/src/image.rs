@@ -516,13 +516,15 @@ pub struct Shader {
     camera: Camera,
     lighting: Lighting,
     height: u32,
-    key: [f64; 3],
-    fill: [f64; 3],
-    rim: [f64; 3],
+    /// The lights' directions in the world (rounded to `f32`, as the
+    /// shading reads them: once here, not per pass).
+    key: [f32; 3],
+    fill: [f32; 3],
+    rim: [f32; 3],
     base: [f32; 3],
     /// Orthographic views: the direction back to the eye and the key
-    /// light's half vector, the same for every pixel.
-    ortho: Option<([f64; 3], [f64; 3])>,
+    /// light's half vector, the same for every pixel (in `f32`).
+    ortho: Option<([f32; 3], [f32; 3])>,
     /// The shininess, when a whole number in `[0, 1024]`.
     whole_shininess: Option<u32>,
     srgb: &'static SrgbTable,
@@ -548,15 +550,16 @@ impl Shader {
             }
         };
         let e = lighting.shininess;
+        let f32s = |v: [f64; 3]| v.map(|c| c as f32);
         Shader {
             camera: *camera,
             lighting: lighting.clone(),
             height,
-            key,
-            fill: to_world(lighting.fill.dir),
-            rim: to_world(lighting.rim.dir),
+            key: f32s(key),
+            fill: f32s(to_world(lighting.fill.dir)),
+            rim: f32s(to_world(lighting.rim.dir)),
             base: lighting.base_color.map(srgb_to_linear),
-            ortho,
+            ortho: ortho.map(|(v, hv)| (f32s(v), f32s(hv))),
             whole_shininess: (e.fract() == 0.0 && (0.0..=1024.0).contains(&e)).then_some(e as u32),
             srgb: srgb_table(),
         }
@@ -694,7 +697,7 @@ impl Shader {
         let cam = &self.camera;
         let ShadeIn { n, p, material } = lanes;
         let f32s = |v: [f64; 3]| v.map(|c| c as f32);
-        let (key, fill, rim) = (f32s(self.key), f32s(self.fill), f32s(self.rim));
+        let (key, fill, rim) = (self.key, self.fill, self.rim);
         // The normals scaled by a power of two (exact) so that their
         // largest component is about 1, then rounded to `f32`: normals of
         // any finite size keep their direction. (A pass of its own: the
@@ -714,10 +717,7 @@ impl Shader {
         // arrays of them then).
         let lights = (key, fill, rim);
         let [hemi, kd, fd, rd, sx] = match self.ortho {
-            Some((v, hv)) => {
-                let (v, hv) = (f32s(v), f32s(hv));
-                light_terms(&nf, lights, |_| (v, hv))
-            }
+            Some((v, hv)) => light_terms(&nf, lights, |_| (v, hv)),
             None => {
                 let mut view = [[0.0f32; SPAN]; 3];
                 let mut half = [[0.0f32; SPAN]; 3];
