@@ -694,20 +694,13 @@ impl ModelCaster {
         stats: &mut CastStats,
     ) -> bool {
         csg.solve(lanes, n, work, solved, entry);
-        let mut live = 0u64;
-        for k in 0..n {
-            live |= u64::from(lanes.z0[k] <= lanes.z1[k]) << k;
-        }
+        let live = solved.live;
         if live & !solved.sure != 0 {
             return false;
         }
         stats.exact_rays += u64::from(live.count_ones());
         // Hits at the entry into the box: the box face's normal.
-        let mut entries = 0u64;
-        for k in 0..n {
-            let entry = (solved.leaf[k] == ENTRY) & (solved.z[k] < f64::INFINITY);
-            entries |= u64::from(entry) << k;
-        }
+        let mut entries = solved.entry;
         while entries != 0 {
             let k = entries.trailing_zeros() as usize;
             entries &= entries - 1;

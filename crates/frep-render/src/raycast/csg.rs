@@ -151,8 +151,12 @@ impl Default for Lanes {
 pub(super) struct Solved {
     /// Whether the lane's outcome stands (else the general caster's).
     pub sure: u64,
+    /// Whether the lane's ray is live (`z0 ≤ z1`; among the first `n`).
+    pub live: u64,
     /// Whether the lane has a hit (`z < +∞`).
     pub hit: u64,
+    /// Whether the lane's hit is its entry into the model box.
+    pub entry: u64,
     /// The hit's depth (`+∞`: the ray misses).
     pub z: [f64; BLOCK],
     /// The leaf crossed at the hit, or [`ENTRY`].
@@ -170,6 +174,8 @@ impl Default for Solved {
     fn default() -> Solved {
         Solved {
             sure: 0,
+            live: 0,
+            entry: 0,
             hit: 0,
             z: [f64::INFINITY; BLOCK],
             leaf: [ENTRY; BLOCK],
@@ -449,7 +455,9 @@ impl Csg {
         // A leaf's hit needs a normal; an entry hit's comes from the box.
         let normal_ok = !hit | entry | finite;
         s.sure = live & !bad & !grazing & normal_ok;
+        s.live = live;
         s.hit = hit;
+        s.entry = hit & entry;
     }
 }
 
