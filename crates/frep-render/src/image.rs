@@ -65,13 +65,16 @@ fn keep_for_reuse(bytes: Vec<u8>) {
     }
 }
 
-/// `len` zero bytes for an image: kept ones where some fit
-/// ([`Spare::take`]), else new ones.
+/// `len` bytes for an image, of no set value: the caller writes every
+/// one. Kept ones where some fit ([`Spare::take`]; whatever image they
+/// held is left in them, not cleared first: a serial pass over the whole
+/// image, before the tiles' parallel work), else new ones.
 pub(crate) fn image_bytes(len: usize) -> Vec<u8> {
     let found = spare().take(len);
     match found {
         Some(mut v) => {
-            v.clear();
+            // (Only bytes past the kept ones' length are new: zeros.)
+            v.truncate(len);
             v.resize(len, 0);
             v
         }
@@ -1005,7 +1008,10 @@ mod tests {
             };
             render_camera(&model, &s, &s.camera(), None).unwrap()
         };
-        let fresh: Vec<Image> = [(30.0, 300), (75.0, 256)]
+        // (Two views of one size: a kept image of the other view, its
+        // bytes left as they were, must be overwritten whole.)
+        let views = [(30.0, 300), (75.0, 256), (120.0, 256)];
+        let fresh: Vec<Image> = views
             .iter()
             .map(|&(yaw, n)| {
                 let img = render(yaw, n);
@@ -1014,9 +1020,9 @@ mod tests {
             })
             .collect();
         for _ in 0..3 {
-            for (k, &(yaw, n)) in [(75.0, 256), (30.0, 300)].iter().enumerate() {
+            for (k, &(yaw, n)) in views.iter().enumerate().rev() {
                 let img = render(yaw, n);
-                assert_eq!(img, fresh[1 - k], "yaw {yaw}");
+                assert_eq!(img, fresh[k], "yaw {yaw}");
             }
         }
     }
