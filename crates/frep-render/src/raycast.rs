@@ -582,10 +582,10 @@ impl ModelCaster {
             .then(|| per_dir(forward, forward));
         let mut cf = sc.closed_form.take().unwrap_or_default();
         // (Orthographic: the origins' per-column terms, which every row
-        // shares, once; as many as the passes of `SETUP_LANES` read.)
+        // shares, once per tile.)
         let cols = &mut sc.columns;
         if fixed.is_some() {
-            cols.resize((tile.x1 - tile.x0).next_multiple_of(L as u32) as usize, 0.0);
+            cols.resize((tile.x1 - tile.x0) as usize, 0.0);
             rm.ortho_columns(tile.x0, cols);
         }
         let (lanes, work, solved) = &mut *cf;
