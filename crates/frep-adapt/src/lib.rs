@@ -1,0 +1,1 @@
+//! # frep-adapt (being written)

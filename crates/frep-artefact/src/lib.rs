@@ -1,0 +1,1 @@
+//! # frep-artefact (being written)

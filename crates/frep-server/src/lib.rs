@@ -1,0 +1,1 @@
+//! # frep-server (being written)

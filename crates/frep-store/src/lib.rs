@@ -1,0 +1,1 @@
+//! # frep-store (being written)

@@ -1,0 +1,1 @@
+//! # frep-wasm (being written)
