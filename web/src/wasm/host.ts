@@ -1,0 +1,194 @@
+/**
+ * KernelHost: the worker side of the kernel protocol (protocol.ts), apart
+ * from the Worker glue so that Node tests drive it directly.
+ *
+ * Supersession: each request on a channel becomes that channel's latest;
+ * the host yields to the event loop before starting and between passes
+ * (coarse mesh, then refined), and a job that is no longer the latest
+ * answers `cancelled` there. A WebAssembly call itself cannot be
+ * interrupted, so the granularity is one pass.
+ *
+ * Compiled models are cached by (source, body, parameters), a few at a
+ * time; an evicted model is freed in the module and compiled again when
+ * needed.
+ */
+import type { Channel, KernelRequest, KernelResponse } from './protocol';
+
+import { channelOf } from './protocol';
+import type { FrepKernel, KernelCompiled } from './kernel';
+import { KernelError, ModelError } from './kernel';
+
+/** How many compiled models the host keeps. */
+export const MODEL_CACHE_SIZE = 6;
+
+/** Posts an answer (with buffers to transfer). */
+export type Post = (r: KernelResponse, transfer?: Transferable[]) => void;
+
+const now = (): number => (typeof performance !== 'undefined' ? performance.now() : Date.now());
+
+const tick = (): Promise<void> => new Promise((r) => setTimeout(r, 0));
+
+/** Deterministic points in a box, planar (x…, y…, z…): the benchmark's. */
+export function benchPoints(bounds: number[], n: number): Float64Array {
+  const xyz = new Float64Array(3 * n);
+  let s = 0x9e3779b9;
+  const rnd = (): number => {
+    // xorshift32: the same points on every run.
+    s ^= s << 13;
+    s ^= s >>> 17;
+    s ^= s << 5;
+    return (s >>> 0) / 4294967296;
+  };
+  for (let a = 0; a < 3; a++) {
+    const lo = bounds[a] ?? -1;
+    const hi = bounds[a + 3] ?? 1;
+    for (let i = 0; i < n; i++) xyz[a * n + i] = lo + (hi - lo) * rnd();
+  }
+  return xyz;
+}
+
+export class KernelHost {
+  private readonly latest = new Map<Channel, number>();
+  private loading: Promise<FrepKernel> | null = null;
+  private readonly models: { key: string; compiled: KernelCompiled }[] = [];
+
+  constructor(
+    private kernel: FrepKernel | null,
+    private readonly post: Post,
+    private readonly load?: (url: string) => Promise<FrepKernel>,
+  ) {}
+
+  /** Whether `id` is still its channel's newest request. */
+  private current(channel: Channel, id: number): boolean {
+    return this.latest.get(channel) === id;
+  }
+
+  /** A compiled model for a source (cached); throws with its diagnostics. */
+  private model(source: string, body: string | undefined, params: number[]): KernelCompiled {
+    const k = this.need();
+    const key = JSON.stringify([source, body ?? null, params]);
+    const hit = this.models.findIndex((m) => m.key === key);
+    if (hit >= 0) {
+      const [m] = this.models.splice(hit, 1);
+      this.models.push(m!);
+      return m!.compiled;
+    }
+    const opts = body === undefined ? { params } : { body, params };
+    const compiled = k.compile(source, opts);
+    if (!compiled.ok) throw new ModelError(compiled.diagnostics);
+    this.models.push({ key, compiled });
+    while (this.models.length > MODEL_CACHE_SIZE) {
+      const old = this.models.shift();
+      if (old) k.freeModel(old.compiled.handle);
+    }
+    return compiled;
+  }
+
+  private need(): FrepKernel {
+    if (!this.kernel) throw new KernelError('the kernel is not loaded yet');
+    return this.kernel;
+  }
+
+  /** Handles one request; answers through `post`. */
+  async handle(req: KernelRequest): Promise<void> {
+    const channel = channelOf(req.kind);
+    if (channel) this.latest.set(channel, req.id);
+    try {
+      await this.run(req, channel);
+    } catch (e) {
+      const message = e instanceof Error ? e.message : String(e);
+      this.post(
+        e instanceof ModelError
+          ? { id: req.id, kind: 'error', message, diagnostics: e.diagnostics }
+          : { id: req.id, kind: 'error', message },
+      );
+    }
+  }
+
+  private async run(req: KernelRequest, channel: Channel | null): Promise<void> {
+    if (req.kind === 'init') {
+      if (!this.kernel && !this.loading) {
+        if (!this.load) throw new KernelError('no loader');
+        this.loading = this.load(req.wasmUrl);
+      }
+      if (this.loading) this.kernel = await this.loading;
+      this.post({ id: req.id, kind: 'ready' });
+      return;
+    }
+    // Requests sent right after `init` wait for the module.
+    if (!this.kernel && this.loading) this.kernel = await this.loading;
+    if (req.kind === 'cancel') {
+      // A fresh id no job has: the running one stops at its next pass.
+      this.latest.set(req.channel, -req.id);
+      return;
+    }
+    // Let a burst of requests arrive: only the newest of a channel runs.
+    await tick();
+    if (channel && !this.current(channel, req.id)) {
+      this.post({ id: req.id, kind: 'cancelled' });
+      return;
+    }
+    const t0 = now();
+    switch (req.kind) {
+      case 'diagnose': {
+        const k = this.need();
+        const c = k.compile(req.source, req.body === undefined ? { noBounds: true } : { body: req.body, noBounds: true });
+        if (c.ok) k.freeModel(c.handle);
+        this.post({ id: req.id, kind: 'diagnostics', ok: c.ok, diagnostics: c.diagnostics, ms: now() - t0 });
+        return;
+      }
+      case 'compile': {
+        const c = this.model(req.source, req.opts?.body, req.opts?.params ?? []);
+        this.post({ id: req.id, kind: 'compiled', compiled: c, ms: now() - t0 });
+        return;
+      }
+      case 'shader': {
+        const c = this.model(req.source, req.body, req.params);
+        const bounds = req.bounds ?? c.bounds ?? undefined;
+        const shader = this.need().shader(c.handle, bounds ? { bounds, params: req.params } : { params: req.params });
+        this.post({ id: req.id, kind: 'shader', shader, ms: now() - t0 });
+        return;
+      }
+      case 'bench': {
+        const c = this.model(req.source, undefined, []);
+        const xyz = benchPoints(c.bounds ?? [-1, -1, -1, 1, 1, 1], req.points);
+        const t1 = now();
+        this.need().evalPoints(c.handle, xyz);
+        const ms = now() - t1;
+        const evalsPerSecond = ms > 0 ? (req.points / ms) * 1000 : Number.POSITIVE_INFINITY;
+        this.post({ id: req.id, kind: 'bench', evalsPerSecond, points: req.points, ms });
+        return;
+      }
+      case 'mesh':
+        await this.mesh(req);
+        return;
+    }
+  }
+
+  private async mesh(req: Extract<KernelRequest, { kind: 'mesh' }>): Promise<void> {
+    const depths = req.depths.length > 0 ? req.depths : [6];
+    for (let i = 0; i < depths.length; i++) {
+      if (i > 0) {
+        await tick();
+        if (!this.current('mesh', req.id)) {
+          this.post({ id: req.id, kind: 'cancelled' });
+          return;
+        }
+      }
+      const t0 = now();
+      const c = this.model(req.source, req.body, req.params);
+      const bounds = req.bounds ?? c.bounds ?? [-10, -10, -10, 10, 10, 10];
+      const depth = depths[i]!;
+      const mesh = this.need().polygonize(c.handle, {
+        bounds,
+        depth,
+        params: req.params,
+        ...(req.method ? { method: req.method } : {}),
+      });
+      this.post(
+        { id: req.id, kind: 'mesh', mesh, depth, final: i === depths.length - 1, bounds, ms: now() - t0 },
+        [mesh.positions.buffer as ArrayBuffer],
+      );
+    }
+  }
+}
