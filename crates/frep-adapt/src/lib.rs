@@ -1,1 +1,64 @@
-//! # frep-adapt (being written)
+//! # frep-adapt
+//!
+//! The adaptive delivery engine: from a client's measurements, a model's
+//! statistics and the server's load to a delivery mode, its settings and
+//! the reason, per WebSocket session. Pure code: no I/O, no clock (every
+//! event carries the time in ms from any fixed origin, monotonic), no
+//! threads.
+//!
+//! ## How it decides
+//! For every mode (1 still, 2 view set, 3 server mesh, 4a GPU ray casting,
+//! 4b WASM mesh, volume) [`predict`] works out the settings that fit the
+//! client ([`choose::settings`]) and predicts the time to first display, the
+//! time per orbit frame and the latency of a parameter edit, or refuses the
+//! mode with a reason (no WebGL2, a software renderer for a heavy shader,
+//! too many primitives for a browser shader...). [`choose`] scores the
+//! feasible modes (first display, orbit smoothness with a penalty under
+//! 20 fps, edits, and a fidelity penalty per mode) and picks the cheapest.
+//! [`Engine`] keeps one session's state: it re-decides on every event, with
+//! hysteresis (leaving a mode that fails its targets after ~2 s, switching
+//! to a better mode only after ~10 s of steady advantage and an idle user),
+//! obeys the user's override, learns correction factors from what the
+//! client reports it actually took ([`correction`]), and logs every
+//! decision with its inputs and predictions.
+//!
+//! ## Use
+//! ```
+//! use frep_adapt::{Engine, EngineConfig, ModelStats, Measured};
+//! use frep_wire::{ClientReport, NetworkEstimate, Screen};
+//!
+//! let mut engine = Engine::new(EngineConfig::default()).expect("default config is valid");
+//! let report = ClientReport {
+//!     user_agent: "test".into(), webgl2: false, renderer: None,
+//!     max_texture_size: 0, max_3d_texture_size: 0, webgpu: false,
+//!     gpu_bench_ms: None, wasm_bench_meps: None, cpu_bench_ms: None,
+//!     screen: Screen { width: 1280, height: 800, pixel_ratio: 1.0 },
+//!     mobile: false, device_memory_gb: None, cores: None,
+//! };
+//! let net = NetworkEstimate { rtt_ms: 30.0, bandwidth_bps: 20e6, samples: 4 };
+//! let stats = ModelStats {
+//!     tape_len: 40, nodes: 50, closed_form: true, attributes: 0,
+//!     primitives: None, shader_statements: 40, measured: Measured::default(),
+//! };
+//! let decision = engine.connect(report, net, stats, 0);
+//! // Without WebGL only the server's images can be shown.
+//! assert!(matches!(decision.mode, frep_wire::Mode::Still | frep_wire::Mode::ViewSet));
+//! ```
+#![warn(missing_docs)]
+
+pub mod choose;
+pub mod correction;
+pub mod engine;
+pub mod predict;
+pub mod reason;
+pub mod stats;
+
+pub use choose::{CostWeights, Scored};
+pub use correction::{CorrectionConfig, Corrections, Factor, ModeFactors};
+pub use engine::{ConfigError, Engine, EngineConfig, InputSummary, LogEntry, Trigger};
+pub use predict::{ClientCaps, Inputs, Limits, Prediction};
+pub use stats::{
+    ImageSample, Measured, MeshSample, ModelStats, ServerLoad, ServerSample, VolumeSample,
+};
+
+pub use frep_wire::{ClientReport, Decision, Mode, ModePrediction, ModeSettings, NetworkEstimate};

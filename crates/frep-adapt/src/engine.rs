@@ -1,0 +1,804 @@
+//! One session's engine: its state, its events, hysteresis and the
+//! decision log.
+//!
+//! Every event updates what the engine knows and re-evaluates all modes
+//! ([`crate::choose::evaluate`]). Whether the result becomes a new
+//! [`Decision`] is governed by hysteresis, so that the mode does not flap:
+//!
+//! * **immediately**: at connection, on an override, when the current mode
+//!   became impossible (a report without WebGL2, a model too heavy for the
+//!   shader), when the client's frames have stayed under the target frame
+//!   rate for `downgrade_after_ms` (the slow mode's orbit correction is
+//!   learnt first, so the predictions already show it), and after a model
+//!   edit that makes the current mode miss the target frame rate;
+//! * **after `downgrade_after_ms` (~2 s)** of a better mode being preferred
+//!   (by at least `switch_margin` of the cost) while the current mode fails
+//!   its targets (predicted orbit under the target frame rate);
+//! * **after `upgrade_after_ms` (~10 s)** of a better mode being preferred,
+//!   the whole time, while the current mode is fine, and only when the user
+//!   has been idle for `idle_before_upgrade_ms`.
+//!
+//! A preference that lapses for one evaluation restarts its timer. Settings
+//! within the same mode change only when their inputs moved out of a band
+//! (the network by more than `network_band` ×, the load factor by
+//! `load_band` ×) or changed discretely (report, model edit, slow frames).
+//! An override is obeyed whenever the client can show the mode.
+
+use std::collections::VecDeque;
+
+use frep_wire::{ClientReport, Decision, Mode, ModeSettings, NetworkEstimate};
+use serde::Serialize;
+
+use crate::choose::{self, CostWeights, Scored};
+use crate::correction::{mode_index, CorrectionConfig, Corrections};
+use crate::predict::{ClientCaps, Inputs, Limits};
+use crate::reason;
+use crate::stats::{ModelStats, ServerLoad, ServerSample};
+
+/// The engine's settings.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct EngineConfig {
+    /// Limits of the modes.
+    pub limits: Limits,
+    /// Weights of the cost.
+    pub weights: CostWeights,
+    /// How corrections learn.
+    pub correction: CorrectionConfig,
+    /// Slow frames for this long, or a failing mode's better alternative
+    /// preferred this long, switches (ms).
+    pub downgrade_after_ms: u64,
+    /// A better alternative to a mode that is fine must be preferred this
+    /// long (ms).
+    pub upgrade_after_ms: u64,
+    /// The user must have been idle this long for an upgrade (ms).
+    pub idle_before_upgrade_ms: u64,
+    /// A switch needs the new mode's cost below `(1 − margin) ×` the
+    /// current's.
+    pub switch_margin: f64,
+    /// Settings are re-derived when bandwidth or round trip moved by more
+    /// than this factor from the ones the current settings rest on.
+    pub network_band: f64,
+    /// The same for the server's load factor.
+    pub load_band: f64,
+    /// Frame rates at or above this are capped by the display: they teach
+    /// nothing about the mode's cost.
+    pub vsync_fps: f64,
+    /// Decision log entries kept (oldest dropped first).
+    pub log_capacity: usize,
+}
+
+impl Default for EngineConfig {
+    fn default() -> Self {
+        EngineConfig {
+            limits: Limits::default(),
+            weights: CostWeights::default(),
+            correction: CorrectionConfig::default(),
+            downgrade_after_ms: 2_000,
+            upgrade_after_ms: 10_000,
+            idle_before_upgrade_ms: 1_500,
+            switch_margin: 0.15,
+            network_band: 1.5,
+            load_band: 1.5,
+            vsync_fps: 55.0,
+            log_capacity: 256,
+        }
+    }
+}
+
+/// A configuration the engine cannot work with.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ConfigError {
+    /// A field out of its range.
+    #[error("engine config: {field} {why}")]
+    Invalid {
+        /// The field.
+        field: &'static str,
+        /// What is wrong with it.
+        why: String,
+    },
+}
+
+fn check(ok: bool, field: &'static str, why: &str) -> Result<(), ConfigError> {
+    if ok {
+        Ok(())
+    } else {
+        Err(ConfigError::Invalid {
+            field,
+            why: why.to_string(),
+        })
+    }
+}
+
+impl EngineConfig {
+    /// Checks every field's range.
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        let c = self;
+        check(
+            (0.0..1.0).contains(&c.switch_margin),
+            "switchMargin",
+            "must be in [0, 1)",
+        )?;
+        check(c.network_band >= 1.0, "networkBand", "must be ≥ 1")?;
+        check(c.load_band >= 1.0, "loadBand", "must be ≥ 1")?;
+        check(c.vsync_fps > 0.0, "vsyncFps", "must be > 0")?;
+        check(c.log_capacity >= 1, "logCapacity", "must be ≥ 1")?;
+        let a = c.correction.alpha;
+        check(a > 0.0 && a <= 1.0, "correction.alpha", "must be in (0, 1]")?;
+        check(
+            c.correction.max_ratio >= 1.0,
+            "correction.maxRatio",
+            "must be ≥ 1",
+        )?;
+        check(
+            c.correction.max_factor >= 1.0,
+            "correction.maxFactor",
+            "must be ≥ 1",
+        )?;
+        let w = &c.weights;
+        let weights = [
+            w.first,
+            w.orbit,
+            w.edit,
+            w.slow_orbit,
+            w.patience_ms,
+            w.slow_first,
+            w.per_quality_point,
+            w.per_undersize,
+            w.per_mesh_level,
+        ];
+        let all = weights.iter().chain(w.mode_penalty.iter());
+        check(
+            all.into_iter().all(|v| v.is_finite() && *v >= 0.0),
+            "weights",
+            "must be finite and ≥ 0",
+        )?;
+        check(w.min_orbit_fps > 0.0, "weights.minOrbitFps", "must be > 0")?;
+        let l = &c.limits;
+        for (field, (least, most)) in [
+            ("limits.serverMeshDepths", l.server_mesh_depths),
+            ("limits.wasmMeshDepths", l.wasm_mesh_depths),
+        ] {
+            check(
+                least >= 1 && least <= most && most <= 12,
+                field,
+                "must be 1 ≤ least ≤ most ≤ 12",
+            )?;
+        }
+        check(
+            l.max_image_side >= 16,
+            "limits.maxImageSide",
+            "must be ≥ 16",
+        )?;
+        check(
+            l.max_pixel_ratio >= 1.0,
+            "limits.maxPixelRatio",
+            "must be ≥ 1",
+        )?;
+        check(
+            l.min_volume_grid >= 8,
+            "limits.minVolumeGrid",
+            "must be ≥ 8",
+        )?;
+        Ok(())
+    }
+}
+
+/// What caused an evaluation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "camelCase")]
+pub enum Trigger {
+    /// The session started.
+    Connect,
+    /// A new network estimate or a server measurement of an artefact.
+    Measurement,
+    /// A new client report.
+    Report,
+    /// The model changed.
+    Edit,
+    /// The client's frames stayed under the target rate.
+    SlowFrames,
+    /// A frame rate report (fine or not yet long enough to act on).
+    FrameRate,
+    /// The client reported a displayed time.
+    Displayed,
+    /// The user's override.
+    Override,
+    /// The server's load changed.
+    Load,
+    /// A periodic re-evaluation.
+    Periodic,
+}
+
+impl Trigger {
+    /// The wire name (`Decision::trigger`).
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Trigger::Connect => "connect",
+            Trigger::Measurement => "measurement",
+            Trigger::Report => "report",
+            Trigger::Edit => "edit",
+            Trigger::SlowFrames => "slowFrames",
+            Trigger::FrameRate => "frameRate",
+            Trigger::Displayed => "displayed",
+            Trigger::Override => "override",
+            Trigger::Load => "load",
+            Trigger::Periodic => "periodic",
+        }
+    }
+}
+
+/// The inputs of an evaluation, in short.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct InputSummary {
+    /// The network.
+    pub network: NetworkEstimate,
+    /// The client as the engine sees it.
+    pub caps: ClientCaps,
+    /// Tape operations.
+    pub tape_len: u32,
+    /// Shader statements.
+    pub statements: u32,
+    /// Primitives (estimated or counted).
+    pub primitives: u32,
+    /// Closed form on the server.
+    pub closed_form: bool,
+    /// The server's load.
+    pub load: ServerLoad,
+    /// The user's override.
+    pub override_mode: Option<Mode>,
+}
+
+/// One evaluation in the decision log.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct LogEntry {
+    /// When (the caller's ms).
+    pub at_ms: u64,
+    /// What caused it.
+    pub trigger: Trigger,
+    /// The inputs.
+    pub inputs: InputSummary,
+    /// Every mode's prediction and cost.
+    pub predictions: Vec<frep_wire::ModePrediction>,
+    /// The cheapest feasible mode.
+    pub best: Mode,
+    /// The mode in use after it.
+    pub chosen: Mode,
+    /// The decision's sequence number when one was issued; `None` when
+    /// hysteresis held a change back.
+    pub issued: Option<u32>,
+    /// The reason (of the decision, or of holding back).
+    pub reason: String,
+}
+
+/// A preferred mode waiting for its hysteresis timer.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Pending {
+    mode: Mode,
+    since_ms: u64,
+}
+
+/// What an evaluation decided to do.
+struct Outcome {
+    target: usize,
+    issue: bool,
+    note: Option<String>,
+}
+
+/// The adaptive engine of one session.
+#[derive(Clone, Debug)]
+pub struct Engine {
+    config: EngineConfig,
+    report: Option<ClientReport>,
+    caps: Option<ClientCaps>,
+    net: Option<NetworkEstimate>,
+    stats: Option<ModelStats>,
+    load: ServerLoad,
+    connected: bool,
+    current: Option<Decision>,
+    /// Uncorrected first-display and orbit ms of each mode at the last
+    /// evaluation, for learning from reports.
+    raw: [(f64, f64); 6],
+    /// What the current settings rest on.
+    basis_net: Option<NetworkEstimate>,
+    basis_load: f64,
+    override_mode: Option<Mode>,
+    pending: Option<Pending>,
+    slow_since: Option<u64>,
+    last_activity_ms: Option<u64>,
+    corrections: Corrections,
+    log: VecDeque<LogEntry>,
+    seq: u32,
+}
+
+impl Engine {
+    /// An engine with a checked configuration.
+    pub fn new(config: EngineConfig) -> Result<Engine, ConfigError> {
+        config.validate()?;
+        Ok(Engine {
+            corrections: Corrections::new(config.correction),
+            config,
+            report: None,
+            caps: None,
+            net: None,
+            stats: None,
+            load: ServerLoad::default(),
+            connected: false,
+            current: None,
+            raw: [(0.0, 0.0); 6],
+            basis_net: None,
+            basis_load: 1.0,
+            override_mode: None,
+            pending: None,
+            slow_since: None,
+            last_activity_ms: None,
+            log: VecDeque::new(),
+            seq: 0,
+        })
+    }
+
+    /// Starts (or restarts) the session: the client's report, the network
+    /// measured so far and the opened model. Always decides.
+    pub fn connect(
+        &mut self,
+        report: ClientReport,
+        net: NetworkEstimate,
+        stats: ModelStats,
+        now_ms: u64,
+    ) -> Decision {
+        self.set_report(report);
+        self.net = Some(net);
+        self.stats = Some(stats);
+        self.connected = true;
+        self.current = None;
+        self.pending = None;
+        self.slow_since = None;
+        let decided = self.evaluate(Trigger::Connect, now_ms);
+        // Connected with all inputs, an evaluation always issues; the
+        // current decision is the fallback should that ever change.
+        match decided.or_else(|| self.current.clone()) {
+            Some(d) => d,
+            None => unreachable_decision(),
+        }
+    }
+
+    /// A new network estimate (pings, probes, payload throughput).
+    pub fn measurement(&mut self, net: NetworkEstimate, now_ms: u64) -> Option<Decision> {
+        self.net = Some(net);
+        self.evaluate(Trigger::Measurement, now_ms)
+    }
+
+    /// A changed client report (benchmarks done, screen resized).
+    pub fn report(&mut self, report: ClientReport, now_ms: u64) -> Option<Decision> {
+        self.set_report(report);
+        self.evaluate(Trigger::Report, now_ms)
+    }
+
+    /// The frame rate the client achieved in `mode` while interacting.
+    /// Frames under the target rate for `downgrade_after_ms` downgrade.
+    pub fn frame_rate(&mut self, mode: Mode, fps: f64, now_ms: u64) -> Option<Decision> {
+        if !(fps.is_finite() && fps >= 0.0) {
+            return None;
+        }
+        self.last_activity_ms = Some(now_ms);
+        if fps > 0.0 && fps < self.config.vsync_fps {
+            let raw = self.raw[mode_index(mode)].1;
+            self.corrections.observe_orbit(mode, 1000.0 / fps, raw);
+        }
+        let current = self.current.as_ref().map(|d| d.mode);
+        let mut trigger = Trigger::FrameRate;
+        if current == Some(mode) {
+            if fps < self.config.weights.min_orbit_fps {
+                let since = *self.slow_since.get_or_insert(now_ms);
+                if now_ms.saturating_sub(since) >= self.config.downgrade_after_ms {
+                    trigger = Trigger::SlowFrames;
+                }
+            } else {
+                self.slow_since = None;
+            }
+        }
+        self.evaluate(trigger, now_ms)
+    }
+
+    /// The client showed `mode`'s first frame `ms` after asking, having
+    /// transferred `bytes`: the first-display prediction learns from it.
+    pub fn displayed(&mut self, mode: Mode, ms: f64, bytes: u64, now_ms: u64) -> Option<Decision> {
+        let _ = bytes; // The time already includes the transfer.
+        let raw = self.raw[mode_index(mode)].0;
+        self.corrections.observe_first_display(mode, ms, raw);
+        self.evaluate(Trigger::Displayed, now_ms)
+    }
+
+    /// The model changed (an edit, another version opened). Measured
+    /// artefact costs of the old model should not be carried over.
+    pub fn model_changed(&mut self, stats: ModelStats, now_ms: u64) -> Option<Decision> {
+        self.stats = Some(stats);
+        self.evaluate(Trigger::Edit, now_ms)
+    }
+
+    /// The server measured one of this model's artefacts.
+    pub fn server_measured(&mut self, sample: ServerSample, now_ms: u64) -> Option<Decision> {
+        if let Some(s) = self.stats.as_mut() {
+            s.record(sample);
+        }
+        self.evaluate(Trigger::Measurement, now_ms)
+    }
+
+    /// The user's override: a mode, or `None` for automatic. Always decides
+    /// (once connected).
+    pub fn set_override(&mut self, mode: Option<Mode>, now_ms: u64) -> Option<Decision> {
+        self.override_mode = mode;
+        self.pending = None;
+        self.evaluate(Trigger::Override, now_ms)
+    }
+
+    /// The server's load changed.
+    pub fn load(&mut self, load: ServerLoad, now_ms: u64) -> Option<Decision> {
+        self.load = load;
+        self.evaluate(Trigger::Load, now_ms)
+    }
+
+    /// The user is interacting (camera, drags): upgrades wait for idleness.
+    pub fn activity(&mut self, now_ms: u64) {
+        self.last_activity_ms = Some(now_ms);
+    }
+
+    /// Periodic re-evaluation (hysteresis timers advance only on events;
+    /// call this every second or so).
+    pub fn tick(&mut self, now_ms: u64) -> Option<Decision> {
+        self.evaluate(Trigger::Periodic, now_ms)
+    }
+
+    /// The decision in force.
+    pub fn current(&self) -> Option<&Decision> {
+        self.current.as_ref()
+    }
+
+    /// The user's override.
+    pub fn override_mode(&self) -> Option<Mode> {
+        self.override_mode
+    }
+
+    /// The decision log, oldest first.
+    pub fn log(&self) -> impl Iterator<Item = &LogEntry> {
+        self.log.iter()
+    }
+
+    /// The learnt corrections.
+    pub fn corrections(&self) -> &Corrections {
+        &self.corrections
+    }
+
+    /// The model's stats (with the server's measurements).
+    pub fn stats(&self) -> Option<&ModelStats> {
+        self.stats.as_ref()
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> &EngineConfig {
+        &self.config
+    }
+
+    /// Every mode's prediction for the current inputs, without deciding
+    /// (`None` before `connect`).
+    pub fn predictions(&self) -> Option<Vec<Scored>> {
+        let (caps, net, stats) = (
+            self.caps.as_ref()?,
+            self.net.as_ref()?,
+            self.stats.as_ref()?,
+        );
+        let inputs = Inputs {
+            caps,
+            net,
+            stats,
+            load: self.load,
+        };
+        let c = &self.config;
+        Some(choose::evaluate(
+            &inputs,
+            &c.limits,
+            &c.weights,
+            &self.corrections,
+        ))
+    }
+
+    fn set_report(&mut self, report: ClientReport) {
+        self.caps = Some(ClientCaps::from_report(&report, &self.config.limits));
+        self.report = Some(report);
+    }
+
+    /// Re-evaluates every mode and decides whether to issue a decision.
+    fn evaluate(&mut self, trigger: Trigger, now_ms: u64) -> Option<Decision> {
+        if !self.connected {
+            return None;
+        }
+        let scored = self.predictions()?;
+        for (i, s) in scored.iter().enumerate() {
+            self.raw[i] = (s.prediction.raw_first_display_ms, s.prediction.raw_orbit_ms);
+        }
+        let best = choose::best(&scored);
+        let outcome = self.hysteresis(trigger, &scored, best, now_ms);
+        let settings_changed = self.settings_changed(trigger, &scored[outcome.target]);
+        let issue = outcome.issue || settings_changed;
+        let decision = issue.then(|| self.issue(trigger, &scored, &outcome));
+        self.record(trigger, now_ms, &scored, best, &outcome, decision.as_ref());
+        if decision.is_some() {
+            self.pending = None;
+            self.slow_since = None;
+        }
+        decision
+    }
+
+    /// Which mode to use, and whether to issue even with the same settings.
+    fn hysteresis(
+        &mut self,
+        trigger: Trigger,
+        scored: &[Scored],
+        best: usize,
+        now: u64,
+    ) -> Outcome {
+        let forced = matches!(trigger, Trigger::Connect | Trigger::Override);
+        if let Some(m) = self.override_mode {
+            let i = mode_index(m);
+            match &scored[i].prediction.refusal {
+                None => {
+                    return Outcome {
+                        target: i,
+                        issue: forced || self.mode_differs(i),
+                        note: Some(format!("your choice: {}", reason::mode_name(m))),
+                    }
+                }
+                Some(r) => {
+                    let note = Some(format!(
+                        "{} is not possible here ({r})",
+                        reason::mode_name(m)
+                    ));
+                    return Outcome {
+                        target: best,
+                        issue: forced || self.mode_differs(best),
+                        note,
+                    };
+                }
+            }
+        }
+        let Some(current) = self.current.as_ref().map(|d| mode_index(d.mode)) else {
+            return Outcome {
+                target: best,
+                issue: true,
+                note: None,
+            };
+        };
+        if forced {
+            return Outcome {
+                target: best,
+                issue: true,
+                note: None,
+            };
+        }
+        let cur = &scored[current].prediction;
+        if let Some(r) = &cur.refusal {
+            let note = format!("{} no longer possible ({r})", reason::mode_name(cur.mode));
+            return Outcome {
+                target: best,
+                issue: true,
+                note: Some(note),
+            };
+        }
+        let keep = Outcome {
+            target: current,
+            issue: false,
+            note: None,
+        };
+        if best == current
+            || scored[best].cost >= scored[current].cost * (1.0 - self.config.switch_margin)
+        {
+            self.pending = None;
+            return keep;
+        }
+        let frame_target = 1000.0 / self.config.weights.min_orbit_fps;
+        let failing = cur.orbit_ms > frame_target || self.slow_since.is_some();
+        let immediate = trigger == Trigger::SlowFrames || (trigger == Trigger::Edit && failing);
+        let since = match self.pending {
+            Some(p) if p.mode == scored[best].prediction.mode => p.since_ms,
+            _ => now,
+        };
+        self.pending = Some(Pending {
+            mode: scored[best].prediction.mode,
+            since_ms: since,
+        });
+        let waited = now.saturating_sub(since);
+        let idle = self
+            .last_activity_ms
+            .is_none_or(|t| now.saturating_sub(t) >= self.config.idle_before_upgrade_ms);
+        let go = immediate
+            || (failing && waited >= self.config.downgrade_after_ms)
+            || (!failing && idle && waited >= self.config.upgrade_after_ms);
+        if !go {
+            return keep;
+        }
+        let note = if trigger == Trigger::SlowFrames {
+            format!(
+                "frames stayed under {:.0} fps in {}",
+                self.config.weights.min_orbit_fps,
+                reason::mode_name(cur.mode)
+            )
+        } else if failing {
+            format!(
+                "{} misses {:.0} fps (≈ {:.0} fps)",
+                reason::mode_name(cur.mode),
+                self.config.weights.min_orbit_fps,
+                reason::fps(cur.orbit_ms)
+            )
+        } else {
+            format!(
+                "better than {} for {}",
+                reason::mode_name(cur.mode),
+                reason::duration_words(waited as f64)
+            )
+        };
+        Outcome {
+            target: best,
+            issue: true,
+            note: Some(note),
+        }
+    }
+
+    fn mode_differs(&self, i: usize) -> bool {
+        self.current
+            .as_ref()
+            .is_none_or(|d| mode_index(d.mode) != i)
+    }
+
+    /// Whether the target keeps the current mode but its settings should
+    /// change (their inputs moved out of band or changed discretely).
+    fn settings_changed(&self, trigger: Trigger, target: &Scored) -> bool {
+        let Some(cur) = self.current.as_ref() else {
+            return false;
+        };
+        if cur.mode != target.prediction.mode
+            || same_settings(&cur.settings, &target.prediction.settings)
+        {
+            return false;
+        }
+        match trigger {
+            Trigger::Report | Trigger::Edit | Trigger::SlowFrames => true,
+            Trigger::Load => {
+                let f = self.load.factor() / self.basis_load;
+                f > self.config.load_band || f < 1.0 / self.config.load_band
+            }
+            Trigger::Measurement | Trigger::Periodic | Trigger::FrameRate | Trigger::Displayed => {
+                self.network_moved()
+            }
+            Trigger::Connect | Trigger::Override => false,
+        }
+    }
+
+    /// Whether the network left the band around the current settings' basis.
+    fn network_moved(&self) -> bool {
+        let (Some(b), Some(n)) = (self.basis_net.as_ref(), self.net.as_ref()) else {
+            return false;
+        };
+        let band = self.config.network_band;
+        let bw = n.bandwidth_bps / b.bandwidth_bps.max(1.0);
+        let rtt_moved = (n.rtt_ms - b.rtt_ms).abs() > (b.rtt_ms * (band - 1.0)).max(20.0);
+        !(bw.is_finite() && bw <= band && bw >= 1.0 / band) || rtt_moved
+    }
+
+    /// Builds, keeps and returns a decision.
+    fn issue(&mut self, trigger: Trigger, scored: &[Scored], outcome: &Outcome) -> Decision {
+        self.seq = self.seq.saturating_add(1);
+        let chosen = &scored[outcome.target];
+        let reason = self.reason(outcome, scored);
+        let overridden =
+            self.override_mode == Some(chosen.prediction.mode) && chosen.prediction.feasible();
+        let net = self.net.clone().unwrap_or(NetworkEstimate {
+            rtt_ms: 0.0,
+            bandwidth_bps: 0.0,
+            samples: 0,
+        });
+        let decision = Decision {
+            mode: chosen.prediction.mode,
+            settings: chosen.prediction.settings.clone(),
+            reason,
+            overridden,
+            predictions: scored
+                .iter()
+                .map(|s| s.prediction.to_wire(s.cost))
+                .collect(),
+            network: net.clone(),
+            trigger: trigger.as_str().to_string(),
+            seq: self.seq,
+        };
+        self.basis_net = Some(net);
+        self.basis_load = self.load.factor();
+        self.current = Some(decision.clone());
+        decision
+    }
+
+    fn reason(&self, outcome: &Outcome, scored: &[Scored]) -> String {
+        match (self.caps.as_ref(), self.net.as_ref(), self.stats.as_ref()) {
+            (Some(caps), Some(net), Some(stats)) => {
+                let inputs = Inputs {
+                    caps,
+                    net,
+                    stats,
+                    load: self.load,
+                };
+                reason::explain(outcome.note.as_deref(), scored, outcome.target, &inputs)
+            }
+            _ => outcome.note.clone().unwrap_or_default(),
+        }
+    }
+
+    /// Logs an evaluation that issued a decision or held a change back.
+    fn record(
+        &mut self,
+        trigger: Trigger,
+        now: u64,
+        scored: &[Scored],
+        best: usize,
+        outcome: &Outcome,
+        decision: Option<&Decision>,
+    ) {
+        if decision.is_none() && best == outcome.target {
+            return;
+        }
+        let (Some(caps), Some(net), Some(stats)) =
+            (self.caps.clone(), self.net.clone(), self.stats.as_ref())
+        else {
+            return;
+        };
+        let reason = match (decision, &self.pending) {
+            (Some(d), _) => d.reason.clone(),
+            (None, Some(p)) => format!(
+                "held: {} preferred since {} ms, hysteresis not passed",
+                reason::mode_name(p.mode),
+                p.since_ms
+            ),
+            (None, None) => format!(
+                "held: {} not better by the switch margin",
+                reason::mode_name(scored[best].prediction.mode)
+            ),
+        };
+        let entry = LogEntry {
+            at_ms: now,
+            trigger,
+            inputs: InputSummary {
+                network: net,
+                caps,
+                tape_len: stats.tape_len,
+                statements: stats.statements(),
+                primitives: stats.primitives_estimate(),
+                closed_form: stats.closed_form,
+                load: self.load,
+                override_mode: self.override_mode,
+            },
+            predictions: scored
+                .iter()
+                .map(|s| s.prediction.to_wire(s.cost))
+                .collect(),
+            best: scored[best].prediction.mode,
+            chosen: scored[outcome.target].prediction.mode,
+            issued: decision.map(|d| d.seq),
+            reason,
+        };
+        while self.log.len() >= self.config.log_capacity {
+            self.log.pop_front();
+        }
+        self.log.push_back(entry);
+    }
+}
+
+/// Settings equal up to float noise.
+fn same_settings(a: &ModeSettings, b: &ModeSettings) -> bool {
+    a == b
+}
+
+/// `connect` evaluates with every input present, so it always issues; this
+/// is never reached.
+#[cold]
+fn unreachable_decision() -> Decision {
+    unreachable!("connect always issues a decision: all inputs are set before evaluating")
+}

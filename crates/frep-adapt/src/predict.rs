@@ -1,0 +1,799 @@
+//! The cost model: for one mode and its settings, the predicted time to
+//! first display, time per orbit frame and latency of a parameter edit, or
+//! a refusal with a reason.
+//!
+//! ## The model
+//! Every prediction is a sum of stages, each from a measurement when there
+//! is one and from a constant below otherwise:
+//!
+//! * **server**: ms to compute and encode the artefact, multiplied by the
+//!   server's load factor (`1 + (busy + queued) / workers`). Measured
+//!   figures for this model ([`crate::Measured`]) are scaled to the
+//!   settings (per pixel, per triangle, per cell); otherwise images cost
+//!   [`RENDER_MS_PER_MPIX_CLOSED`] (closed form, ≈ 3.5 ms at 512²) or
+//!   [`RENDER_MS_PER_MPIX_BASE`] + [`RENDER_MS_PER_MPIX_PER_OP`] × tape
+//!   length per megapixel (≈ 18 ms at 512² for 50 operations, ≈ 58 ms for
+//!   300), plus [`ENCODE_MS_PER_MPIX`]; meshes have
+//!   [`MESH_TRIANGLES_PER_CELL_FACTOR`] × 4^depth triangles (a mesh grows
+//!   ~4× per octree level) at [`MESH_SERVER_US_PER_TRIANGLE`] ×
+//!   (1 + tape / [`MESH_TAPE_SCALE`]) µs each; volumes cost grid³ point
+//!   evaluations at [`SERVER_MEVALS_PER_S`] for a [`REFERENCE_TAPE`]-op tape.
+//! * **bytes**: JPEG [`JPEG_BYTES_PER_PIXEL_Q75`] bytes per pixel at q75
+//!   (22 kB at 512²), scaled by quality and, for small views, by
+//!   (512² / pixels)^¼ (12 views of 256² ≈ 99 kB); meshopt glb
+//!   [`MESH_BYTES_PER_TRIANGLE`] bytes per triangle; volumes
+//!   [`VOLUME_BYTES_PER_CELL`] per cell (narrow band, compressed).
+//!   Transfer is bytes × 8 / bandwidth, plus one round trip per request
+//!   (two for an artefact fetched over HTTP after its reference arrives on
+//!   the socket).
+//! * **client**: the GPU benchmark `g` (ms per 256² frame of a reference
+//!   ray-marched field of [`REFERENCE_STATEMENTS`] statements) scales the
+//!   generated shader's frame: `g × pixels / 256² × (s + 20) / (ref + 20)`
+//!   for `s` statements; triangles draw at [`TRIANGLES_PER_MS_AT_1MS_BENCH`]
+//!   / `g` per ms, plus a raster fill of [`RASTER_FILL_FRACTION`] of a
+//!   ray-march pixel; a volume frame is [`VOLUME_MARCH_FACTOR`] × g per
+//!   256² pixels × grid / 64. Shader compilation costs
+//!   [`COMPILE_BASE_MS`] + per statement [`COMPILE_MS_PER_STATEMENT_GPU`]
+//!   (twice that on mobile) or [`COMPILE_MS_PER_STATEMENT_SOFTWARE`] on a
+//!   software renderer (SwiftShader compiles 10 k statements in ~7 s).
+//!   The JS benchmark (`cpu_bench_ms` against [`CPU_BENCH_REFERENCE_MS`])
+//!   scales decoding; the WASM benchmark (million evaluations per second of
+//!   a [`REFERENCE_TAPE`]-op model) scales browser polygonizing at
+//!   [`WASM_EVALS_PER_TRIANGLE`] evaluations per triangle.
+//!
+//! Missing benchmarks are guessed ([`ClientCaps::from_report`]): a guess
+//! is only a first estimate; the corrections learnt from the client's
+//! reports ([`crate::Corrections`]) multiply the predictions of each mode.
+
+use frep_wire::{ClientReport, Mode, ModePrediction, ModeSettings, NetworkEstimate};
+use serde::Serialize;
+
+use crate::correction::Corrections;
+use crate::stats::{ModelStats, ServerLoad};
+
+/// Server render ms per megapixel of a closed-form model.
+pub const RENDER_MS_PER_MPIX_CLOSED: f64 = 14.0;
+/// Server render ms per megapixel of a general model, fixed part.
+pub const RENDER_MS_PER_MPIX_BASE: f64 = 40.0;
+/// Server render ms per megapixel per tape operation.
+pub const RENDER_MS_PER_MPIX_PER_OP: f64 = 0.6;
+/// Server JPEG encoding ms per megapixel (8 ms at 512² on 2 cores).
+pub const ENCODE_MS_PER_MPIX: f64 = 30.0;
+/// JPEG bytes per pixel at quality 75 (22 kB at 512²).
+pub const JPEG_BYTES_PER_PIXEL_Q75: f64 = 0.084;
+/// Triangles = this × 4^depth (a compact solid filling a fair part of its
+/// box; a gyroid has ~10).
+pub const MESH_TRIANGLES_PER_CELL_FACTOR: f64 = 4.0;
+/// Server polygonizing µs per triangle for a tiny tape.
+pub const MESH_SERVER_US_PER_TRIANGLE: f64 = 1.0;
+/// Tape length that doubles the polygonizing cost per triangle.
+pub const MESH_TAPE_SCALE: f64 = 50.0;
+/// Fixed server ms of any mesh job.
+pub const MESH_SERVER_BASE_MS: f64 = 10.0;
+/// Quantized meshopt glb bytes per triangle.
+pub const MESH_BYTES_PER_TRIANGLE: f64 = 4.5;
+/// Server point evaluations (millions per second) of a reference tape.
+pub const SERVER_MEVALS_PER_S: f64 = 40.0;
+/// Tape length of the benchmarks' reference model.
+pub const REFERENCE_TAPE: f64 = 40.0;
+/// Compressed bytes per volume cell (8-bit narrow band, brotli).
+pub const VOLUME_BYTES_PER_CELL: f64 = 0.1;
+/// Pixels of the GPU benchmark's frame (256²).
+pub const BENCH_PIXELS: f64 = 65_536.0;
+/// Statements of the GPU benchmark's reference field.
+pub const REFERENCE_STATEMENTS: f64 = 40.0;
+/// Triangles per ms drawn by a GPU whose benchmark takes 1 ms.
+pub const TRIANGLES_PER_MS_AT_1MS_BENCH: f64 = 5.0e5;
+/// Cost of a rasterized pixel relative to a ray-marched one.
+pub const RASTER_FILL_FRACTION: f64 = 0.05;
+/// Cost of a volume ray-march pixel (64³) relative to the benchmark's.
+pub const VOLUME_MARCH_FACTOR: f64 = 0.5;
+/// Fixed ms of compiling and linking a generated shader.
+pub const COMPILE_BASE_MS: f64 = 40.0;
+/// Compile ms per statement on a hardware GPU (all shader flavours).
+pub const COMPILE_MS_PER_STATEMENT_GPU: f64 = 0.05;
+/// Compile ms per statement on a software renderer.
+pub const COMPILE_MS_PER_STATEMENT_SOFTWARE: f64 = 0.7;
+/// `cpu_bench_ms` of the reference desktop.
+pub const CPU_BENCH_REFERENCE_MS: f64 = 10.0;
+/// Client JPEG decode ms per megapixel on the reference desktop.
+pub const DECODE_MS_PER_MPIX: f64 = 10.0;
+/// Client meshopt decode and upload ms per triangle on the reference
+/// desktop (864 k triangles ≈ 86 ms).
+pub const MESH_DECODE_MS_PER_TRIANGLE: f64 = 1.0e-4;
+/// WASM point evaluations per output triangle of the browser polygonizer.
+pub const WASM_EVALS_PER_TRIANGLE: f64 = 40.0;
+/// Fixed ms of any client frame (the browser's own work).
+pub const FRAME_BASE_MS: f64 = 0.5;
+
+/// Resource limits of the modes: beyond them a mode is refused.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct Limits {
+    /// 4a: more primitives than this do not compile as a browser shader.
+    pub max_primitives_gpu: u32,
+    /// 4a: more shader statements than this are refused.
+    pub max_statements_gpu: u32,
+    /// 4a: a predicted compile longer than this is refused.
+    pub max_compile_ms: f64,
+    /// Any mode but 1: a predicted first display longer than this is refused.
+    pub max_first_display_ms: f64,
+    /// 4b: least device memory (GiB) when the browser reports it.
+    pub min_memory_gb_wasm: f64,
+    /// 3, 4b: most triangles a client holds (desktop).
+    pub max_triangles_desktop: f64,
+    /// 3, 4b: most triangles a mobile client holds.
+    pub max_triangles_mobile: f64,
+    /// Volume: least 3D texture size.
+    pub min_volume_grid: u32,
+    /// Largest image side the server renders (pixels).
+    pub max_image_side: u32,
+    /// Largest device pixel ratio honoured.
+    pub max_pixel_ratio: f64,
+    /// Mesh depths tried for a server mesh (least, most).
+    pub server_mesh_depths: (u8, u8),
+    /// Mesh depths tried in the browser (least, most).
+    pub wasm_mesh_depths: (u8, u8),
+}
+
+impl Default for Limits {
+    fn default() -> Self {
+        Limits {
+            max_primitives_gpu: 1000,
+            max_statements_gpu: 12_000,
+            max_compile_ms: 15_000.0,
+            max_first_display_ms: 60_000.0,
+            min_memory_gb_wasm: 2.0,
+            max_triangles_desktop: 4.0e6,
+            max_triangles_mobile: 1.0e6,
+            min_volume_grid: 64,
+            max_image_side: 1280,
+            max_pixel_ratio: 2.0,
+            server_mesh_depths: (5, 9),
+            wasm_mesh_depths: (4, 7),
+        }
+    }
+}
+
+/// What the engine believes of a client, from its report: measured where
+/// the browser measured, guessed otherwise.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct ClientCaps {
+    /// WebGL2 context.
+    pub webgl2: bool,
+    /// A software renderer (SwiftShader, llvmpipe, Basic Render).
+    pub software: bool,
+    /// The renderer string's short name for reasons (`SwiftShader`...).
+    pub renderer_name: Option<String>,
+    /// ms per 256² benchmark frame (0 without WebGL2).
+    pub gpu_ms: f64,
+    /// Whether `gpu_ms` was measured (not guessed).
+    pub gpu_measured: bool,
+    /// Million WASM evaluations per second (`None`: no WASM).
+    pub wasm_meps: Option<f64>,
+    /// JS speed relative to the reference desktop (2: twice as slow).
+    pub cpu_scale: f64,
+    /// Device pixels across (screen × capped pixel ratio).
+    pub device_width: u32,
+    /// Device pixels down.
+    pub device_height: u32,
+    /// Mobile device.
+    pub mobile: bool,
+    /// Device memory in GiB (`None`: not reported).
+    pub memory_gb: Option<f64>,
+    /// 3D texture limit.
+    pub max_3d_texture: u32,
+}
+
+/// Renderer strings of software rasterizers, lower case.
+const SOFTWARE_RENDERERS: [(&str, &str); 5] = [
+    ("swiftshader", "SwiftShader"),
+    ("llvmpipe", "llvmpipe"),
+    ("softpipe", "softpipe"),
+    ("basic render", "Microsoft Basic Render"),
+    ("software", "a software renderer"),
+];
+
+/// The software rasterizer an unmasked renderer string names, if any.
+pub fn software_renderer(renderer: &str) -> Option<&'static str> {
+    let lower = renderer.to_ascii_lowercase();
+    SOFTWARE_RENDERERS
+        .iter()
+        .find(|(needle, _)| lower.contains(needle))
+        .map(|(_, name)| *name)
+}
+
+/// A positive finite value, or `None`.
+fn positive(v: Option<f64>) -> Option<f64> {
+    v.filter(|x| x.is_finite() && *x > 0.0)
+}
+
+impl ClientCaps {
+    /// Caps from a report; non-finite or non-positive figures count as
+    /// missing.
+    pub fn from_report(report: &ClientReport, limits: &Limits) -> ClientCaps {
+        let software_name = report.renderer.as_deref().and_then(software_renderer);
+        let software = report.webgl2 && software_name.is_some();
+        let bench = positive(report.gpu_bench_ms).filter(|_| report.webgl2);
+        let guess = if software {
+            80.0
+        } else if report.mobile {
+            8.0
+        } else {
+            3.0
+        };
+        let gpu_ms = match (report.webgl2, bench) {
+            (false, _) => 0.0,
+            (true, Some(ms)) => ms,
+            (true, None) => guess,
+        };
+        let cpu_scale = positive(report.cpu_bench_ms)
+            .map(|ms| ms / CPU_BENCH_REFERENCE_MS)
+            .unwrap_or(if report.mobile { 3.0 } else { 1.0 })
+            .clamp(0.1, 100.0);
+        let ratio = if report.screen.pixel_ratio.is_finite() && report.screen.pixel_ratio > 0.0 {
+            report.screen.pixel_ratio.min(limits.max_pixel_ratio)
+        } else {
+            1.0
+        };
+        let side = |css: u32| ((f64::from(css.max(1)) * ratio).round() as u32).max(1);
+        ClientCaps {
+            webgl2: report.webgl2,
+            software,
+            renderer_name: software_name.map(str::to_string),
+            gpu_ms,
+            gpu_measured: bench.is_some(),
+            wasm_meps: positive(report.wasm_bench_meps),
+            cpu_scale,
+            device_width: side(report.screen.width),
+            device_height: side(report.screen.height),
+            mobile: report.mobile,
+            memory_gb: positive(report.device_memory_gb),
+            max_3d_texture: if report.webgl2 {
+                report.max_3d_texture_size
+            } else {
+                0
+            },
+        }
+    }
+
+    /// Device pixels of the viewport.
+    pub fn device_pixels(&self) -> f64 {
+        f64::from(self.device_width) * f64::from(self.device_height)
+    }
+
+    /// Most triangles this client should hold.
+    pub fn max_triangles(&self, limits: &Limits) -> f64 {
+        let base = if self.mobile {
+            limits.max_triangles_mobile
+        } else {
+            limits.max_triangles_desktop
+        };
+        // Small memories hold proportionally less (1 M triangles per GiB
+        // is generous for a meshopt mesh and its GPU buffers).
+        self.memory_gb.map_or(base, |gb| base.min(gb * 1.0e6))
+    }
+}
+
+/// Everything a prediction depends on.
+#[derive(Clone, Copy, Debug)]
+pub struct Inputs<'a> {
+    /// The client.
+    pub caps: &'a ClientCaps,
+    /// The network.
+    pub net: &'a NetworkEstimate,
+    /// The model.
+    pub stats: &'a ModelStats,
+    /// The server's load.
+    pub load: ServerLoad,
+}
+
+impl Inputs<'_> {
+    /// Round trip in ms (at least 0).
+    pub fn rtt(&self) -> f64 {
+        if self.net.rtt_ms.is_finite() {
+            self.net.rtt_ms.max(0.0)
+        } else {
+            0.0
+        }
+    }
+
+    /// Bandwidth in bits per second (at least 10 kbit/s).
+    pub fn bandwidth(&self) -> f64 {
+        if self.net.bandwidth_bps.is_finite() {
+            self.net.bandwidth_bps.max(1.0e4)
+        } else {
+            1.0e4
+        }
+    }
+
+    /// ms to transfer `bytes`.
+    pub fn transfer_ms(&self, bytes: f64) -> f64 {
+        bytes * 8.0 / self.bandwidth() * 1000.0
+    }
+}
+
+/// The prediction for one mode.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct Prediction {
+    /// The mode.
+    pub mode: Mode,
+    /// The settings it was predicted for.
+    pub settings: ModeSettings,
+    /// Why not, when the client cannot show it (`None`: feasible).
+    pub refusal: Option<String>,
+    /// Request to first displayed frame, ms (corrected).
+    pub first_display_ms: f64,
+    /// Per orbit frame, ms (corrected).
+    pub orbit_ms: f64,
+    /// Parameter change to updated display, ms (corrected).
+    pub edit_ms: f64,
+    /// Bytes of the first display.
+    pub bytes: f64,
+    /// First display before correction (what reports are compared with).
+    pub raw_first_display_ms: f64,
+    /// Orbit frame before correction.
+    pub raw_orbit_ms: f64,
+}
+
+impl Prediction {
+    /// Whether the client can show it.
+    pub fn feasible(&self) -> bool {
+        self.refusal.is_none()
+    }
+
+    /// The wire form, with the engine's score.
+    pub fn to_wire(&self, cost: f64) -> ModePrediction {
+        let round = |v: f64| (v * 10.0).round() / 10.0;
+        ModePrediction {
+            mode: self.mode,
+            feasible: self.feasible(),
+            refusal: self.refusal.clone(),
+            first_display_ms: round(self.first_display_ms),
+            orbit_ms: round(self.orbit_ms),
+            edit_ms: round(self.edit_ms),
+            bytes: self.bytes.round(),
+            cost: round(cost),
+        }
+    }
+}
+
+/// Stage times of one mode before correction.
+struct Raw {
+    first: f64,
+    orbit: f64,
+    edit: f64,
+    bytes: f64,
+}
+
+/// Predicts one mode with the given settings.
+pub fn predict(
+    mode: Mode,
+    settings: &ModeSettings,
+    inputs: &Inputs,
+    limits: &Limits,
+    corrections: &Corrections,
+) -> Prediction {
+    let raw = match mode {
+        Mode::Still => still(settings, inputs),
+        Mode::ViewSet => view_set(settings, inputs),
+        Mode::ServerMesh => server_mesh(settings, inputs),
+        Mode::GpuRaycast => gpu_raycast(settings, inputs),
+        Mode::WasmMesh => wasm_mesh(settings, inputs),
+        Mode::Volume => volume(settings, inputs),
+    };
+    let f = corrections.get(mode);
+    let fd = f.first_display.value();
+    let orbit = f.orbit.value();
+    // A 4a edit is one frame (an orbit-like cost); every other edit redoes
+    // the first display's kind of work.
+    let edit_factor = if mode == Mode::GpuRaycast { orbit } else { fd };
+    let first_display_ms = raw.first * fd;
+    let refusal = refusal(mode, inputs, limits).or_else(|| {
+        (mode != Mode::Still && first_display_ms > limits.max_first_display_ms).then(|| {
+            format!(
+                "first display would take ≈ {:.0} s (limit {:.0} s)",
+                first_display_ms / 1000.0,
+                limits.max_first_display_ms / 1000.0
+            )
+        })
+    });
+    Prediction {
+        mode,
+        settings: settings.clone(),
+        refusal,
+        first_display_ms,
+        orbit_ms: raw.orbit * orbit,
+        edit_ms: raw.edit * edit_factor,
+        bytes: raw.bytes,
+        raw_first_display_ms: raw.first,
+        raw_orbit_ms: raw.orbit,
+    }
+}
+
+/// Why the client cannot use a mode at all, from hard checks.
+pub fn refusal(mode: Mode, inputs: &Inputs, limits: &Limits) -> Option<String> {
+    let caps = inputs.caps;
+    let needs_gl = matches!(
+        mode,
+        Mode::ServerMesh | Mode::GpuRaycast | Mode::WasmMesh | Mode::Volume
+    );
+    if needs_gl && !caps.webgl2 {
+        return Some("no WebGL2".to_string());
+    }
+    match mode {
+        Mode::GpuRaycast => gpu_refusal(inputs, limits),
+        Mode::WasmMesh => {
+            if caps.wasm_meps.is_none() {
+                return Some("no WebAssembly benchmark (WASM missing or not measured yet)".into());
+            }
+            match caps.memory_gb {
+                Some(gb) if gb < limits.min_memory_gb_wasm => Some(format!(
+                    "{gb} GB of device memory (browser meshing needs {} GB)",
+                    limits.min_memory_gb_wasm
+                )),
+                _ => None,
+            }
+        }
+        Mode::Volume if caps.max_3d_texture < limits.min_volume_grid => Some(format!(
+            "3D textures limited to {} (volume needs {})",
+            caps.max_3d_texture, limits.min_volume_grid
+        )),
+        _ => None,
+    }
+}
+
+/// 4a's checks: primitives, statements, compile time.
+fn gpu_refusal(inputs: &Inputs, limits: &Limits) -> Option<String> {
+    let stats = inputs.stats;
+    let prims = stats.primitives_estimate();
+    if prims > limits.max_primitives_gpu {
+        let how = if stats.primitives.is_some() {
+            ""
+        } else {
+            "about "
+        };
+        return Some(format!(
+            "{how}{prims} primitives: a browser shader is impractical beyond {}",
+            limits.max_primitives_gpu
+        ));
+    }
+    let statements = stats.statements();
+    if statements > limits.max_statements_gpu {
+        return Some(format!(
+            "{statements} shader statements: too long for a browser shader (limit {})",
+            limits.max_statements_gpu
+        ));
+    }
+    let compile = compile_ms(inputs);
+    if compile > limits.max_compile_ms {
+        let on = inputs
+            .caps
+            .renderer_name
+            .as_deref()
+            .map_or(String::new(), |n| format!(" on {n}"));
+        return Some(format!(
+            "compiling {statements} shader statements{on} would take ≈ {:.0} s",
+            compile / 1000.0
+        ));
+    }
+    None
+}
+
+/// Predicted ms to compile the generated shader (to its first frame).
+pub fn compile_ms(inputs: &Inputs) -> f64 {
+    let caps = inputs.caps;
+    let per = if caps.software {
+        COMPILE_MS_PER_STATEMENT_SOFTWARE
+    } else if caps.mobile {
+        2.0 * COMPILE_MS_PER_STATEMENT_GPU
+    } else {
+        COMPILE_MS_PER_STATEMENT_GPU
+    };
+    COMPILE_BASE_MS + per * f64::from(inputs.stats.statements())
+}
+
+/// Server ms to render and encode `pixels` at the current load.
+pub fn server_image_ms(inputs: &Inputs, pixels: f64) -> f64 {
+    let stats = inputs.stats;
+    let per_mpix = match stats.measured.image {
+        Some(s) => s.server_ms / s.pixels as f64 * 1.0e6,
+        None => {
+            let render = if stats.closed_form {
+                RENDER_MS_PER_MPIX_CLOSED
+            } else {
+                RENDER_MS_PER_MPIX_BASE + RENDER_MS_PER_MPIX_PER_OP * f64::from(stats.tape_len)
+            };
+            render + ENCODE_MS_PER_MPIX
+        }
+    };
+    per_mpix * pixels / 1.0e6 * inputs.load.factor()
+}
+
+/// JPEG size relative to q75, by quality (interpolated).
+fn quality_factor(quality: u8) -> f64 {
+    const TABLE: [(f64, f64); 7] = [
+        (10.0, 0.3),
+        (30.0, 0.45),
+        (50.0, 0.68),
+        (60.0, 0.8),
+        (75.0, 1.0),
+        (85.0, 1.3),
+        (100.0, 3.0),
+    ];
+    let q = f64::from(quality.clamp(10, 100));
+    for w in TABLE.windows(2) {
+        let ((q0, f0), (q1, f1)) = (w[0], w[1]);
+        if q <= q1 {
+            return f0 + (f1 - f0) * (q - q0) / (q1 - q0);
+        }
+    }
+    TABLE[TABLE.len() - 1].1
+}
+
+/// Encoded bytes of one image of `pixels` at `quality`.
+pub fn image_bytes(inputs: &Inputs, pixels: f64, quality: u8) -> f64 {
+    // Small images compress worse per pixel.
+    let small = (262_144.0 / pixels.max(1.0)).powf(0.25).clamp(0.7, 2.0);
+    let per_pixel = match inputs.stats.measured.image {
+        // A measured size carries the model's look (background share...).
+        Some(s) => s.bytes as f64 / s.pixels as f64 / quality_factor(s.quality),
+        None => JPEG_BYTES_PER_PIXEL_Q75,
+    };
+    per_pixel * quality_factor(quality) * small * pixels
+}
+
+/// Client ms to decode an image of `pixels`.
+fn decode_ms(inputs: &Inputs, pixels: f64) -> f64 {
+    DECODE_MS_PER_MPIX * pixels / 1.0e6 * inputs.caps.cpu_scale
+}
+
+fn pixels(settings: &ModeSettings) -> f64 {
+    f64::from(settings.width.max(1)) * f64::from(settings.height.max(1))
+}
+
+/// Mode 1: one image per request; orbit frames are reduced images.
+fn still(s: &ModeSettings, inputs: &Inputs) -> Raw {
+    let px = pixels(s);
+    let bytes = image_bytes(inputs, px, s.quality);
+    let first = inputs.rtt()
+        + server_image_ms(inputs, px)
+        + inputs.transfer_ms(bytes)
+        + decode_ms(inputs, px);
+    let scale = s.moving_scale.max(1.0);
+    let mpx = px / (scale * scale);
+    let mbytes = image_bytes(inputs, mpx, s.moving_quality);
+    let orbit = inputs.rtt()
+        + server_image_ms(inputs, mpx)
+        + inputs.transfer_ms(mbytes)
+        + decode_ms(inputs, mpx);
+    Raw {
+        first,
+        orbit,
+        // A drag streams reduced frames like an orbit.
+        edit: orbit,
+        bytes,
+    }
+}
+
+/// Mode 2: a whole set of views fetched over HTTP; orbit is local.
+fn view_set(s: &ModeSettings, inputs: &Inputs) -> Raw {
+    let count = f64::from(s.views.max(1)) * s.elevations.len().max(1) as f64;
+    let px = pixels(s);
+    let bytes = image_bytes(inputs, px, s.quality) * count;
+    let work = 2.0 * inputs.rtt()
+        + server_image_ms(inputs, px * count)
+        + inputs.transfer_ms(bytes)
+        + decode_ms(inputs, px * count);
+    Raw {
+        first: work,
+        orbit: FRAME_BASE_MS + 0.5,
+        edit: work,
+        bytes,
+    }
+}
+
+/// Triangles of a mesh at `depth`.
+pub fn mesh_triangles(stats: &ModelStats, depth: u8) -> f64 {
+    let k = match stats.measured.mesh {
+        Some(m) if m.triangles > 0 => m.triangles as f64 / 4f64.powi(i32::from(m.depth)),
+        _ => MESH_TRIANGLES_PER_CELL_FACTOR,
+    };
+    k * 4f64.powi(i32::from(depth))
+}
+
+/// Server ms to polygonize and encode at `depth`, at the current load.
+pub fn server_mesh_ms(inputs: &Inputs, depth: u8) -> f64 {
+    let stats = inputs.stats;
+    let tris = mesh_triangles(stats, depth);
+    let ms = match stats.measured.mesh {
+        Some(m) if m.triangles > 0 => m.server_ms * tris / m.triangles as f64,
+        _ => {
+            let per = MESH_SERVER_US_PER_TRIANGLE
+                * (1.0 + f64::from(stats.tape_len) / MESH_TAPE_SCALE)
+                / 1000.0;
+            MESH_SERVER_BASE_MS + per * tris
+        }
+    };
+    ms * inputs.load.factor()
+}
+
+/// Encoded bytes of a mesh at `depth`.
+pub fn mesh_bytes(stats: &ModelStats, depth: u8) -> f64 {
+    let per = match stats.measured.mesh {
+        Some(m) if m.triangles > 0 => m.bytes as f64 / m.triangles as f64,
+        _ => MESH_BYTES_PER_TRIANGLE,
+    };
+    per * mesh_triangles(stats, depth)
+}
+
+/// Client ms to draw a frame of `triangles` at `pixels`.
+pub fn draw_ms(caps: &ClientCaps, triangles: f64, pixels: f64) -> f64 {
+    let g = caps.gpu_ms.max(1e-3);
+    FRAME_BASE_MS
+        + triangles * g / TRIANGLES_PER_MS_AT_1MS_BENCH
+        + g * pixels / BENCH_PIXELS * RASTER_FILL_FRACTION
+}
+
+/// Client ms to decode and upload a mesh.
+fn mesh_decode_ms(caps: &ClientCaps, triangles: f64) -> f64 {
+    MESH_DECODE_MS_PER_TRIANGLE * triangles * caps.cpu_scale
+}
+
+/// Mode 3: the full mesh first; a coarse mesh while a parameter drags.
+fn server_mesh(s: &ModeSettings, inputs: &Inputs) -> Raw {
+    let caps = inputs.caps;
+    let stats = inputs.stats;
+    let fetch = |depth: u8| {
+        let tris = mesh_triangles(stats, depth);
+        let bytes = mesh_bytes(stats, depth);
+        let ms = 2.0 * inputs.rtt()
+            + server_mesh_ms(inputs, depth)
+            + inputs.transfer_ms(bytes)
+            + mesh_decode_ms(caps, tris);
+        (ms, bytes)
+    };
+    let (first, bytes) = fetch(s.mesh_depth);
+    let (edit, _) = fetch(s.coarse_depth.min(s.mesh_depth));
+    let draw = draw_ms(
+        caps,
+        mesh_triangles(stats, s.mesh_depth),
+        caps.device_pixels(),
+    );
+    Raw {
+        first: first + draw,
+        orbit: draw,
+        edit: edit + draw,
+        bytes,
+    }
+}
+
+/// Client ms per frame of the generated shader at `pixels`.
+pub fn shader_frame_ms(inputs: &Inputs, pixels: f64) -> f64 {
+    let s = f64::from(inputs.stats.statements());
+    let complexity = ((s + 20.0) / (REFERENCE_STATEMENTS + 20.0)).max(0.5);
+    FRAME_BASE_MS + inputs.caps.gpu_ms * pixels / BENCH_PIXELS * complexity
+}
+
+/// Mode 4a: the model's shader compiled and ray cast on the client.
+fn gpu_raycast(s: &ModeSettings, inputs: &Inputs) -> Raw {
+    // The compiled model and its shader source: ~40 bytes per statement.
+    let bytes = 2048.0 + 40.0 * f64::from(inputs.stats.statements());
+    let frame = shader_frame_ms(inputs, pixels(s));
+    Raw {
+        first: 2.0 * inputs.rtt() + inputs.transfer_ms(bytes) + compile_ms(inputs) + frame,
+        orbit: frame,
+        // A parameter is a uniform: one more frame.
+        edit: frame,
+        bytes,
+    }
+}
+
+/// Client ms to polygonize at `depth` in WASM (infinite without WASM).
+pub fn wasm_mesh_ms(inputs: &Inputs, depth: u8) -> f64 {
+    let Some(meps) = inputs.caps.wasm_meps else {
+        return f64::INFINITY;
+    };
+    let tape = f64::from(inputs.stats.tape_len.max(4)) / REFERENCE_TAPE;
+    let evals = mesh_triangles(inputs.stats, depth) * WASM_EVALS_PER_TRIANGLE * tape;
+    evals / (meps * 1000.0)
+}
+
+/// Mode 4b: the compiled model sent, polygonized in the browser.
+fn wasm_mesh(s: &ModeSettings, inputs: &Inputs) -> Raw {
+    let caps = inputs.caps;
+    let bytes = 2048.0 + 16.0 * f64::from(inputs.stats.tape_len);
+    let tris = mesh_triangles(inputs.stats, s.mesh_depth);
+    let draw = draw_ms(caps, tris, caps.device_pixels());
+    let upload = 0.2 * mesh_decode_ms(caps, tris);
+    Raw {
+        first: 2.0 * inputs.rtt()
+            + inputs.transfer_ms(bytes)
+            + wasm_mesh_ms(inputs, s.mesh_depth)
+            + upload
+            + draw,
+        orbit: draw,
+        edit: wasm_mesh_ms(inputs, s.coarse_depth.min(s.mesh_depth)) + draw,
+        bytes,
+    }
+}
+
+/// Server ms to evaluate and encode a volume of `grid`³ cells.
+pub fn server_volume_ms(inputs: &Inputs, grid: u32) -> f64 {
+    let cells = f64::from(grid).powi(3);
+    let ms = match inputs.stats.measured.volume {
+        Some(v) => v.server_ms * cells / f64::from(v.grid).powi(3),
+        None => {
+            let tape = f64::from(inputs.stats.tape_len.max(4)) / REFERENCE_TAPE;
+            // Evaluation plus compression (~1e-5 ms per cell).
+            cells * tape / (SERVER_MEVALS_PER_S * 1000.0) + cells * 1.0e-5
+        }
+    };
+    ms * inputs.load.factor()
+}
+
+/// Encoded bytes of a volume of `grid`³ cells.
+pub fn volume_bytes(inputs: &Inputs, grid: u32) -> f64 {
+    let cells = f64::from(grid).powi(3);
+    match inputs.stats.measured.volume {
+        Some(v) => v.bytes as f64 * cells / f64::from(v.grid).powi(3),
+        None => cells * VOLUME_BYTES_PER_CELL,
+    }
+}
+
+/// Client ms per volume frame at `pixels`.
+pub fn volume_frame_ms(caps: &ClientCaps, grid: u32, pixels: f64) -> f64 {
+    FRAME_BASE_MS
+        + caps.gpu_ms * pixels / BENCH_PIXELS * VOLUME_MARCH_FACTOR * f64::from(grid) / 64.0
+}
+
+/// Volume mode: slices from the server, ray marched on the client.
+fn volume(s: &ModeSettings, inputs: &Inputs) -> Raw {
+    let grid = s.volume_grid.max(8);
+    let bytes = volume_bytes(inputs, grid);
+    let cells = f64::from(grid).powi(3);
+    let frame = volume_frame_ms(inputs.caps, grid, pixels(s));
+    let work = 2.0 * inputs.rtt()
+        + server_volume_ms(inputs, grid)
+        + inputs.transfer_ms(bytes)
+        + mesh_decode_ms(inputs.caps, cells / 10.0);
+    Raw {
+        first: work + frame,
+        orbit: frame,
+        edit: work + frame,
+        bytes,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn software_renderers_are_recognised() {
+        for s in [
+            "ANGLE (Google, Vulkan 1.3.0 (SwiftShader Device (Subzero)), SwiftShader driver)",
+            "llvmpipe (LLVM 15.0.7, 256 bits)",
+            "ANGLE (Microsoft, Microsoft Basic Render Driver Direct3D11)",
+        ] {
+            assert!(software_renderer(s).is_some(), "{s}");
+        }
+        assert_eq!(
+            software_renderer("ANGLE (NVIDIA, NVIDIA GeForce RTX 4090 Direct3D11)"),
+            None
+        );
+    }
+
+    #[test]
+    fn quality_table_is_monotone_and_anchored() {
+        assert!((quality_factor(75) - 1.0).abs() < 1e-12);
+        let mut last = 0.0;
+        for q in 1..=100u8 {
+            let f = quality_factor(q);
+            assert!(f >= last, "q{q}");
+            last = f;
+        }
+    }
+}
