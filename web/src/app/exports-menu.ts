@@ -52,7 +52,7 @@ export class ExportsMenu {
     this.depth = h('input', { type: 'number', min: 3, max: 10, value: '6', 'aria-label': 'Export depth' });
     this.bar = h('progress', { class: 'export-progress', max: 1, hidden: true });
     this.status = h('span', { class: 'export-status', 'data-testid': 'export-status' });
-    this.go = h('button', { type: 'button', class: 'primary', text: 'Export', onclick: () => void this.run() });
+    this.go = h('button', { type: 'button', class: 'primary', text: 'Download', onclick: () => void this.run() });
     const panel = h(
       'div',
       { class: 'menu-panel' },

@@ -15,7 +15,7 @@ import { type Checker, ServerChecker } from '../editor/checker';
 import { constructionTree, primitives } from '../editor/construction';
 import { formatConstant } from '../editor/constants';
 import { CodeEditor } from '../editor/editor';
-import type { CameraView, CompileResponse, ModelRef, ModelSummary, Version } from '../wire';
+import type { CameraView, CompileResponse, CompileSummary, ModelRef, ModelSummary, Version } from '../wire';
 import { confirmAction, notify } from './dialogs';
 import { h } from './dom';
 import { ExportsMenu } from './exports-menu';
@@ -64,6 +64,7 @@ export class Studio {
   private treeTimer: ReturnType<typeof setTimeout> | null = null;
   private hashTimer: ReturnType<typeof setTimeout> | null = null;
   private loading = 0;
+  private shownCount = 0;
 
   private constructor(root: HTMLElement, opts: StudioOptions) {
     this.api = new Api(opts.apiBase ?? '');
@@ -96,6 +97,8 @@ export class Studio {
     this.params = new ParamsPanel({
       onParams: (values) => {
         this.viewer?.setParams(values);
+        // What the view was last told, visible to people inspecting the page and to tests.
+        this.layout.viewer.dataset.params = values.join(',');
         this.updateDirty();
       },
       onConstant: (id, value, step) => this.editor.writeConstant(id, formatConstant(value, step)),
@@ -125,7 +128,7 @@ export class Studio {
       onProgress: (cb) => this.viewer?.onProgress?.(cb) ?? (() => {}),
     });
     this.message = h('input', { type: 'text', class: 'save-message', placeholder: 'message', 'aria-label': 'Save message' });
-    this.saveButton = h('button', { type: 'button', class: 'primary', text: 'Save', title: 'Save a new version (Ctrl-S)', onclick: () => void this.save() });
+    this.saveButton = h('button', { type: 'button', class: 'primary', text: 'Save', 'aria-label': 'Save version', title: 'Save a new version (Ctrl-S)', onclick: () => void this.save() });
     this.layout.actions.append(
       h('button', { type: 'button', text: 'Undo', title: 'Undo (Ctrl-Z)', onclick: () => this.editor.undo() }),
       h('button', { type: 'button', text: 'Redo', title: 'Redo (Ctrl-Shift-Z)', onclick: () => this.editor.redo() }),
@@ -274,10 +277,10 @@ export class Studio {
       this.paramNames = names;
       this.params.setParams(s.params, this.params.current);
     }
-    this.showInViewer(src);
+    this.showInViewer(src, s);
   }
 
-  private showInViewer(src: string): void {
+  private showInViewer(src: string, summary: CompileSummary | null = null): void {
     if (!this.viewer || src === this.shownSource) return;
     this.shownSource = src;
     const saved = this.model && this.version && src === this.savedSource;
@@ -286,7 +289,10 @@ export class Studio {
       version: saved ? this.version!.number : null,
       source: src,
       params: this.params.current,
+      summary,
     });
+    this.layout.viewer.dataset.params = this.params.current.join(',');
+    this.layout.viewer.dataset.shown = String(++this.shownCount);
   }
 
   private refreshConstants(): void {
@@ -335,6 +341,7 @@ export class Studio {
       this.savedSource = v.source;
       this.savedParams = [...v.params];
       this.message.value = '';
+      this.updateTitle();
       this.updateDirty();
       this.writeHash();
       notify(`Saved version ${v.number}`);

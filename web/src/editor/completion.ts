@@ -80,12 +80,12 @@ export function callAt(text: string, pos: number, window = 4000): CallContext | 
 }
 
 function signatureTooltip(state: EditorState): Tooltip | null {
-  const sel = state.selection.main;
-  if (!sel.empty) return null;
-  const call = callAt(state.doc.sliceString(0, sel.head), sel.head);
+  // A snippet's field is selected while the user fills it: read from the selection's start.
+  const pos = state.selection.main.from;
+  const call = callAt(state.doc.sliceString(0, pos), pos);
   if (!call) return null;
   return {
-    pos: sel.head,
+    pos,
     above: true,
     strictSide: false,
     create: () => {
