@@ -392,7 +392,12 @@ diagnostics: Array<Diagnostic>,
 /**
  * The limit that was exceeded, by its configuration name.
  */
-limit: string | null, };
+limit: string | null, 
+/**
+ * The model's latest version number (for `conflict`: the save's base
+ * was stale).
+ */
+latest?: number, };
 
 export type ModelRef = { "from": "version", 
 /**

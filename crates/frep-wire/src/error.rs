@@ -21,4 +21,9 @@ pub struct ApiError {
     /// The limit that was exceeded, by its configuration name.
     #[serde(default)]
     pub limit: Option<String>,
+    /// The model's latest version number (for `conflict`: the save's base
+    /// was stale).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[ts(optional)]
+    pub latest: Option<u32>,
 }
