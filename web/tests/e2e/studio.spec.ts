@@ -151,3 +151,20 @@ test('the palette writes code the tree reads back, and the kernel compiles it', 
   await page.getByRole('button', { name: 'Undo' }).click();
   await expect(page.locator('.editor-host .cm-content')).not.toContainText('hfBlock');
 });
+
+test('a constant picked in the code gets a slider that rewrites it', async ({ page }) => {
+  const d = await createModel(uniqueName('const'), sphereSource('0.8'));
+  await openModel(page, d.model.id, 'hfSphere');
+  await page.locator('.editor-host .cm-content').click();
+  await page.keyboard.press('ControlOrMeta+Home');
+  for (let i = 0; i < 4; i++) await page.keyboard.press('ArrowDown');
+  await page.keyboard.press('End');
+  await page.keyboard.press('ArrowLeft');
+  await page.keyboard.press('ArrowLeft');
+  await page.getByRole('button', { name: 'Slider for number at cursor' }).click();
+  const slider = page.locator('input[type="range"][data-constant]');
+  await expect(slider).toHaveCount(1);
+  await slider.fill('1.2');
+  await expect(page.locator('.editor-host .cm-content')).toContainText('hfSphere(x, c, 1.2)');
+  await waitCompiled(page);
+});

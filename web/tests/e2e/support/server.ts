@@ -79,7 +79,11 @@ export async function startServer(opts: ServerOptions = {}): Promise<RunningServ
   const url = `http://127.0.0.1:${port}`;
   const args = ['serve', '--addr', `127.0.0.1:${port}`, '--data', data, ...(opts.extraArgs ?? [])];
   // cwd is the repository root, where the server finds web/dist and examples/.
-  const child = spawn(bin, args, { cwd: repoRoot, stdio: ['ignore', 'pipe', 'pipe'] });
+  const child = spawn(bin, args, {
+    cwd: repoRoot,
+    env: { ...process.env, FREP_STATIC_DIR: join(repoRoot, 'web', 'dist') },
+    stdio: ['ignore', 'pipe', 'pipe'],
+  });
   const log: string[] = [];
   const keep = (b: Buffer) => {
     log.push(b.toString());
