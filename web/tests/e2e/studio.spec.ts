@@ -168,3 +168,18 @@ test('a constant picked in the code gets a slider that rewrites it', async ({ pa
   await expect(page.locator('.editor-host .cm-content')).toContainText('hfSphere(x, c, 1.2)');
   await waitCompiled(page);
 });
+
+test('on a phone-sized screen the panels collapse behind toggles', async ({ page }) => {
+  await page.setViewportSize({ width: 390, height: 800 });
+  const d = await createModel(uniqueName('phone'), sphereSource('0.8'));
+  await openStudio(page, `#/model/${d.model.id}`);
+  await expect(page.locator('.side.left')).toBeHidden();
+  await expect(page.locator('.side.right')).toBeHidden();
+  await expect(page.locator('.centre')).toBeVisible();
+  await page.getByRole('button', { name: 'Show or hide the code' }).click();
+  await expect(page.locator('.editor-host .cm-content')).toContainText('hfSphere');
+  await page.getByRole('button', { name: 'Show or hide the side panel' }).click();
+  await expect(page.locator('.model-list')).toBeVisible();
+  // The page does not scroll sideways.
+  expect(await page.evaluate(() => document.documentElement.scrollWidth)).toBeLessThanOrEqual(390);
+});
