@@ -32,6 +32,11 @@ export class ApiFailure extends Error {
     return this.status === 409 || this.error.code === 'conflict';
   }
 
+  /** The latest version number a conflict reports, when given. */
+  get latest(): number | null {
+    return this.error.latest ?? null;
+  }
+
   /** Model diagnostics, for `model_error`. */
   get diagnostics(): Diagnostic[] {
     return this.error.diagnostics;
@@ -56,7 +61,9 @@ export function parseApiError(status: number, statusText: string, body: string):
       if (typeof o.code === 'string' && typeof o.message === 'string') {
         const diags = Array.isArray(o.diagnostics) ? o.diagnostics.filter(isDiagnostic) : [];
         const limit = typeof o.limit === 'string' ? o.limit : null;
-        return { code: o.code, message: o.message, diagnostics: diags, limit };
+        const err: ApiError = { code: o.code, message: o.message, diagnostics: diags, limit };
+        if (typeof o.latest === 'number' && Number.isInteger(o.latest)) err.latest = o.latest;
+        return err;
       }
     }
   } catch {

@@ -348,7 +348,7 @@ export class Studio {
       void this.history.load(id, v.number);
       void this.list.refresh();
     } catch (e) {
-      if (e instanceof ApiFailure && e.isConflict) this.conflict(id);
+      if (e instanceof ApiFailure && e.isConflict) this.conflict(id, e.latest);
       else notify(`Could not save: ${describeError(e)}`, 'error');
     } finally {
       this.saveButton.disabled = !this.model;
@@ -356,8 +356,9 @@ export class Studio {
   }
 
   /** Someone else saved since this version was loaded: offer to reload or save on top. */
-  private conflict(id: string): void {
-    notify('Someone else saved this model since you opened it.', 'warning', [
+  private conflict(id: string, latest: number | null): void {
+    const which = latest ? ` (version ${latest})` : '';
+    notify(`Someone else saved this model${which} since you opened it.`, 'warning', [
       { label: 'Reload theirs', run: () => void this.open(id, null, false) },
       {
         label: 'Save mine on top',

@@ -38,9 +38,10 @@ describe('API client', () => {
   });
 
   it('recognises a save conflict', async () => {
-    const { api } = answer(409, JSON.stringify({ code: 'conflict', message: 'version 3 is the latest' }));
+    const { api } = answer(409, JSON.stringify({ code: 'conflict', message: 'version 3 is the latest', latest: 3 }));
     const e = await failure(api.saveVersion('m', { source: '', params: [], message: '', base: 2, assets: [] }));
     expect(e.isConflict).toBe(true);
+    expect(e.latest).toBe(3);
     expect(e.error.diagnostics).toEqual([]);
     expect(e.error.limit).toBeNull();
   });
