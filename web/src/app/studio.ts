@@ -177,6 +177,10 @@ export class Studio {
       this.viewer?.setCamera(st.camera);
     }
     if (!st.modelId) {
+      if (this.model && this.isDirty() && !(await confirmAction('Discard the unsaved changes?', 'Discard'))) {
+        this.writeHash();
+        return;
+      }
       if (this.model) this.close();
       return;
     }

@@ -9,7 +9,7 @@
  * `(` before the cursor preceded by a name, its argument index being the
  * count of top-level commas since it.
  */
-import { type Completion, type CompletionContext, type CompletionResult, autocompletion, snippetCompletion } from '@codemirror/autocomplete';
+import { type Completion, type CompletionContext, type CompletionResult, snippetCompletion } from '@codemirror/autocomplete';
 import { type EditorState, StateField } from '@codemirror/state';
 import { type Tooltip, showTooltip } from '@codemirror/view';
 import { BUILTINS, KEYWORDS, tokenize } from './hf-syntax';
@@ -125,8 +125,3 @@ export const signatureHelp = StateField.define<Tooltip | null>({
   },
   provide: (f) => showTooltip.from(f),
 });
-
-/** Completion configured for HyperFun. */
-export function hyperfunAutocomplete() {
-  return autocompletion({ override: [hyperfunCompletions], activateOnTyping: true });
-}
