@@ -67,7 +67,11 @@ export function toEditorRange(text: string, d: Diagnostic): { from: number; to: 
   return { from, to: Math.min(to, text.length) };
 }
 
-/** Maps every diagnostic. */
+/** Maps every diagnostic; the message says where, as the kernel counts. */
 export function toEditorDiagnostics(text: string, diags: Diagnostic[]): EditorDiagnostic[] {
-  return diags.map((d) => ({ ...toEditorRange(text, d), message: d.message, severity: 'error' as const }));
+  return diags.map((d) => ({
+    ...toEditorRange(text, d),
+    message: `line ${d.line}, column ${d.column}: ${d.message}`,
+    severity: 'error' as const,
+  }));
 }

@@ -47,6 +47,6 @@ describe('diagnostics → editor positions', () => {
 
   it('keeps the message and marks errors', () => {
     const [d] = toEditorDiagnostics('x', [{ ...diag(1, 1, 0, 1), message: 'expected `;`' }]);
-    expect(d).toEqual({ from: 0, to: 1, message: 'expected `;`', severity: 'error' });
+    expect(d).toEqual({ from: 0, to: 1, message: 'line 1, column 1: expected `;`', severity: 'error' });
   });
 });
