@@ -8,18 +8,10 @@
 
 use anyhow::Context;
 use frep_core::{Inputs, Model};
-use frep_mesh::poly::bounds::{detect, parse_box, HFP_DEFAULT};
+use frep_mesh::poly::bounds::{self, parse_box, BoxOrigin};
 
-/// The `-- bounds:` line among the comment lines heading a model's source.
-pub fn bounds_from_source(source: &str) -> Option<[f64; 6]> {
-    source
-        .lines()
-        .take_while(|l| l.trim_start().starts_with("--") || l.trim().is_empty())
-        .find_map(|l| l.trim_start().strip_prefix("-- bounds:"))
-        .and_then(|b| parse_box(b.trim()).ok())
-}
-
-/// The box to work in, and where it came from (for messages).
+/// The box to work in, and where it came from (for messages): `--bounds`, else
+/// [`frep_mesh::poly::bounds::model_box`] (the rule the server follows too).
 pub fn model_box(
     arg: Option<&str>,
     source: &str,
@@ -30,13 +22,15 @@ pub fn model_box(
         let b = parse_box(b).map_err(|e| anyhow::anyhow!("--bounds: {e}"))?;
         return Ok((b, "--bounds"));
     }
-    Ok(match bounds_from_source(source) {
-        Some(b) => (b, "the model's bounds comment"),
-        None => match detect(model, inputs) {
-            Some(b) => (b, "detected extent"),
-            None => (HFP_DEFAULT, "hfp default, no extent found"),
+    let (b, origin) = bounds::model_box(source, model, inputs);
+    Ok((
+        b,
+        match origin {
+            BoxOrigin::Comment => "the model's bounds comment",
+            BoxOrigin::Extent => "detected extent",
+            BoxOrigin::Default => "hfp default, no extent found",
         },
-    })
+    ))
 }
 
 /// Comma-separated numbers of an option.
@@ -67,10 +61,10 @@ mod tests {
         let src =
             "-- description: x\n-- bounds: -1,-2,-3,1,2,3\nmy_model(x[3], a[1]) { my_model = 1; }";
         assert_eq!(
-            bounds_from_source(src),
+            bounds::bounds_from_source(src),
             Some([-1.0, -2.0, -3.0, 1.0, 2.0, 3.0])
         );
-        assert_eq!(bounds_from_source("m(x[3], a[1]) { m = 1; }"), None);
+        assert_eq!(bounds::bounds_from_source("m(x[3], a[1]) { m = 1; }"), None);
     }
 
     #[test]

@@ -164,6 +164,51 @@ pub fn detect(model: &Model, inputs: &Inputs) -> Option<[f64; 6]> {
     None
 }
 
+/// Where a model's box came from ([`model_box`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum BoxOrigin {
+    /// The source's `-- bounds:` comment line.
+    Comment,
+    /// The solid's extent found by [`detect`].
+    Extent,
+    /// hfp's default [`HFP_DEFAULT`] (no extent found: an unbounded solid, or none).
+    Default,
+}
+
+impl BoxOrigin {
+    /// `comment`, `extent` or `default` (the wire's `boundsOrigin`).
+    pub fn as_str(self) -> &'static str {
+        match self {
+            BoxOrigin::Comment => "comment",
+            BoxOrigin::Extent => "extent",
+            BoxOrigin::Default => "default",
+        }
+    }
+}
+
+/// The `-- bounds: …` line among the comment lines heading a model's source (any of
+/// [`parse_box`]'s forms), if there is one and it parses.
+pub fn bounds_from_source(source: &str) -> Option<[f64; 6]> {
+    source
+        .lines()
+        .take_while(|l| l.trim_start().starts_with("--") || l.trim().is_empty())
+        .find_map(|l| l.trim_start().strip_prefix("-- bounds:"))
+        .and_then(|b| parse_box(b.trim()).ok())
+}
+
+/// The box a model is worked in when none is given: its source's `-- bounds:` line, else
+/// its detected extent ([`detect`]), else [`HFP_DEFAULT`]. The one rule of the command
+/// line and the server.
+pub fn model_box(source: &str, model: &Model, inputs: &Inputs) -> ([f64; 6], BoxOrigin) {
+    if let Some(b) = bounds_from_source(source) {
+        return (b, BoxOrigin::Comment);
+    }
+    match detect(model, inputs) {
+        Some(b) => (b, BoxOrigin::Extent),
+        None => (HFP_DEFAULT, BoxOrigin::Default),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
