@@ -33,6 +33,8 @@ export interface SocketLike {
 
 /** A streamed frame as received. */
 export interface ReceivedFrame {
+  /** The frame's sequence number (the header's). */
+  seq: number;
   /** Its header. */
   header: Extract<BinaryHeader, { type: 'frame' }>;
   /** The encoded image. */
@@ -370,7 +372,7 @@ export class Session {
     }
     this.camerasInFlight = Math.max(0, this.camerasInFlight - 1);
     const asked = this.askedAt(header.camera);
-    this.events.emit('frame', { header, payload, arrivedAt: now, askedAt: asked });
+    this.events.emit('frame', { seq: header.seq, header, payload, arrivedAt: now, askedAt: asked });
     if (this.pendingCamera) this.flushCamera();
   }
 

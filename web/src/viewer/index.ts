@@ -24,4 +24,4 @@ export type {
 } from './types';
 export { SCENE, DEFAULT_CAMERA } from './scene';
 export { cameraFrame, type CameraFrame } from './camera';
-// createViewer comes with the viewer itself (next commit).
+export { createViewer } from './studio-viewer';

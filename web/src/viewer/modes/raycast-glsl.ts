@@ -78,9 +78,13 @@ export const SCENE_UNIFORMS = [
   'u_section_on',
 ] as const;
 
-/** The studio's ray caster (after the field library; HF_ATTRS defined). */
-export const RAYCAST_MAIN = `
-// ---- the studio's ray caster ----------------------------------------------
+/**
+ * What the client-drawn modes (4a, volume) share: the camera, scene and
+ * section uniforms, sRGB conversions, the background gradient, the ray of
+ * a pixel (frep-render's `ray_at`), the section clip and the lighting
+ * (frep-render's `Lighting`, without ambient occlusion).
+ */
+export const SCENE_GLSL = `
 uniform vec2 u_resolution;
 uniform vec3 u_eye;
 uniform vec3 u_right;
@@ -109,9 +113,6 @@ uniform vec4 u_section;
 uniform float u_section_on;
 out vec4 frag_color;
 
-const int HF_LEVELS = 22;
-const int HF_BISECT = 12;
-
 float hf_srgb(float c) {
   c = clamp(c, 0.0, 1.0);
   return c <= 0.0031308 ? c * 12.92 : 1.055 * pow(c, 1.0 / 2.4) - 0.055;
@@ -119,33 +120,29 @@ float hf_srgb(float c) {
 float hf_linear(float c) {
   return c <= 0.04045 ? c / 12.92 : pow((c + 0.055) / 1.055, 2.4);
 }
-vec4 hf_out(vec3 lin) { return vec4(hf_srgb(lin.r), hf_srgb(lin.g), hf_srgb(lin.b), 1.0); }
 vec4 hf_background() {
   float h = u_resolution.y;
   float row = h - 1.0 - floor(gl_FragCoord.y);
   float s = h > 1.0 ? row / (h - 1.0) : 0.5;
   return vec4(mix(u_bg_top, u_bg_bottom, s), 1.0);
 }
-
-vec2 hf_segment_iv(vec3 o, vec3 d, vec2 seg) {
-  vec3 pa = o + d * seg.x;
-  vec3 pb = o + d * seg.y;
-  vec3 lo = min(pa, pb);
-  vec3 hi = max(pa, pb);
-  return field_iv(vec2(lo.x, hi.x), vec2(lo.y, hi.y), vec2(lo.z, hi.z));
-}
-
-void main() {
-  // frep-render's RayMaker::ray_at: the shorter side spans [-k, k].
+bool hf_persp() { return u_perspective > 0.5; }
+// frep-render's RayMaker::ray_at: the shorter side spans [-k, k].
+void hf_pixel_ray(out vec3 o, out vec3 d) {
   float s = 0.5 * min(u_resolution.x, u_resolution.y);
   vec2 uv = (gl_FragCoord.xy - 0.5 * u_resolution) / s;
   vec3 side = (u_right * uv.x + u_up * uv.y) * u_k;
-  bool persp = u_perspective > 0.5;
-  vec3 o = persp ? u_eye : u_eye + side;
-  vec3 d = persp ? normalize(u_forward + side) : u_forward;
-  // Pixel footprint at distance t: fp0 + fp1 * t.
-  float fp0 = persp ? 0.0 : u_k / s;
-  float fp1 = persp ? u_k / s : 0.0;
+  o = hf_persp() ? u_eye : u_eye + side;
+  d = hf_persp() ? normalize(u_forward + side) : u_forward;
+}
+// The pixel's footprint at distance t is fp.x + fp.y * t.
+vec2 hf_footprint() {
+  float s = 0.5 * min(u_resolution.x, u_resolution.y);
+  return hf_persp() ? vec2(0.0, u_k / s) : vec2(u_k / s, 0.0);
+}
+// The ray's span inside the box and on the kept side of the section;
+// cap_t is where it enters through the section plane (else -1e30).
+void hf_clip(vec3 o, vec3 d, out float t0, out float t1, out float cap_t) {
   vec3 dd = d;
   if (abs(dd.x) < 1e-20) dd.x = 1e-20;
   if (abs(dd.y) < 1e-20) dd.y = 1e-20;
@@ -155,11 +152,9 @@ void main() {
   vec3 tb3 = (u_box_max - o) * inv;
   vec3 tmin = min(ta3, tb3);
   vec3 tmax = max(ta3, tb3);
-  float t0 = max(max(tmin.x, tmin.y), max(tmin.z, 0.0));
-  float t1 = min(min(tmax.x, tmax.y), tmax.z);
-  // The section keeps n . p <= offset; where the ray enters the kept side
-  // through the plane, a hit at that entry is on the cut face.
-  float cap_t = -1e30;
+  t0 = max(max(tmin.x, tmin.y), max(tmin.z, 0.0));
+  t1 = min(min(tmax.x, tmax.y), tmax.z);
+  cap_t = -1e30;
   if (u_section_on > 0.5) {
     float dn = dot(u_section.xyz, d);
     float num = u_section.w - dot(u_section.xyz, o);
@@ -172,10 +167,63 @@ void main() {
       cap_t = t0;
     }
   }
+}
+bool hf_on_cap(float hit, float cap_t) {
+  return cap_t > -1e29 && hit <= cap_t + 1e-6 * max(1.0, abs(cap_t));
+}
+// Shades a hit: raw normal g (any length; flipped towards the viewer),
+// albedo in sRGB; returns the output colour.
+vec4 hf_shade(vec3 p, vec3 g, vec3 albedo_srgb) {
+  vec3 v = hf_persp() ? normalize(u_eye - p) : -u_forward;
+  float ln = length(g);
+  vec3 n = (ln > 0.0 && !isinf(ln) && !isnan(ln)) ? g / ln : v;
+  if (dot(n, v) < 0.0) n = -n;
+  vec3 albedo = vec3(hf_linear(albedo_srgb.r), hf_linear(albedo_srgb.g), hf_linear(albedo_srgb.b));
+  float hemi = 0.5 + 0.5 * n.z;
+  float kd = max(dot(n, u_key), 0.0);
+  float fd = max(dot(n, u_fill), 0.0);
+  float rd = max(dot(n, u_rim), 0.0);
+  vec3 half_v = normalize(u_key + v);
+  float spec = kd > 0.0 ? u_specular * pow(max(dot(n, half_v), 0.0), u_shininess) : 0.0;
+  vec3 amb = u_sky * hemi + u_ground * (1.0 - hemi);
+  vec3 diffuse = u_key_color * kd + u_fill_color * fd + u_rim_color * rd;
+  vec3 lin = albedo * (amb + diffuse) + spec * u_key_color;
+  return vec4(hf_srgb(lin.r), hf_srgb(lin.g), hf_srgb(lin.b), 1.0);
+}
+`;
+
+/** The studio's ray caster (after the field library; HF_ATTRS defined). */
+export const RAYCAST_MAIN = `
+// ---- the studio's ray caster ----------------------------------------------
+${SCENE_GLSL}
+const int HF_LEVELS = 22;
+const int HF_BISECT = 12;
+
+vec2 hf_segment_iv(vec3 o, vec3 d, vec2 seg) {
+  vec3 pa = o + d * seg.x;
+  vec3 pb = o + d * seg.y;
+  vec3 lo = min(pa, pb);
+  vec3 hi = max(pa, pb);
+  return field_iv(vec2(lo.x, hi.x), vec2(lo.y, hi.y), vec2(lo.z, hi.z));
+}
+
+void main() {
+  vec3 o;
+  vec3 d;
+  hf_pixel_ray(o, d);
+  vec2 fp = hf_footprint();
+  float fp0 = fp.x;
+  float fp1 = fp.y;
+  float t0;
+  float t1;
+  float cap_t;
+  hf_clip(o, d, t0, t1, cap_t);
   if (!(t0 < t1)) {
     frag_color = hf_background();
     return;
   }
+  // frep-glsl's traversal: segments of an implicit binary tree over
+  // [t0, t1] (no stack), interval test, then point samples and bisection.
   int lvl = 0;
   int idx = 0;
   int mode = 0;
@@ -248,29 +296,16 @@ void main() {
     return;
   }
   vec3 p = o + d * hit;
-  bool on_cap = cap_t > -1e29 && hit <= cap_t + 1e-6 * max(1.0, abs(cap_t));
+  bool on_cap = hf_on_cap(hit, cap_t);
   vec4 g = field_grad(p);
   // f >= 0 inside: the gradient points inward; on the cut face, the plane's normal.
   vec3 n = on_cap ? u_section.xyz : -g.yzw;
-  vec3 v = persp ? normalize(u_eye - p) : -u_forward;
-  float ln = length(n);
-  n = (ln > 0.0 && !isinf(ln) && !isnan(ln)) ? n / ln : v;
-  if (dot(n, v) < 0.0) n = -n;
 #if HF_ATTRS
   vec3 c = attrs(p);
   vec3 albedo = any(isnan(c)) ? (on_cap ? u_cap : u_base) : clamp(c, 0.0, 1.0);
 #else
   vec3 albedo = on_cap ? u_cap : u_base;
 #endif
-  albedo = vec3(hf_linear(albedo.r), hf_linear(albedo.g), hf_linear(albedo.b));
-  float hemi = 0.5 + 0.5 * n.z;
-  float kd = max(dot(n, u_key), 0.0);
-  float fd = max(dot(n, u_fill), 0.0);
-  float rd = max(dot(n, u_rim), 0.0);
-  vec3 half_v = normalize(u_key + v);
-  float spec = kd > 0.0 ? u_specular * pow(max(dot(n, half_v), 0.0), u_shininess) : 0.0;
-  vec3 amb = u_sky * hemi + u_ground * (1.0 - hemi);
-  vec3 diffuse = u_key_color * kd + u_fill_color * fd + u_rim_color * rd;
-  frag_color = hf_out(albedo * (amb + diffuse) + spec * u_key_color);
+  frag_color = hf_shade(p, n, albedo);
 }
 `;

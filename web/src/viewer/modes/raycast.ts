@@ -23,10 +23,12 @@
  */
 import type { CameraView, Mode, ShaderArtefact } from '../../wire';
 import type { ModeContext, ModeModel, ModeView, SectionPlane } from '../types';
-import { cameraFrame, type Vec3 } from '../camera';
 import { assembleShader, VERTEX_SHADER } from './raycast-glsl';
 import { type LinkedProgram, ProgramCompiler, setUniform } from './raycast-gl';
 import { ResolutionController } from './raycast-resolution';
+import { setSceneUniforms } from './raycast-scene';
+
+export { lightToWorld } from './raycast-scene';
 
 /** Mode 4a's limits and choices. */
 export interface RaycastOptions {
@@ -56,13 +58,6 @@ export function raycastRefusal(statements: number, opts: RaycastOptions = DEFAUL
     return `the model's shader has ${statements} statements, more than a browser compiles in reasonable time (limit ${opts.maxStatements}, about 1,000 primitives): drawn by another mode`;
   }
   return null;
-}
-
-/** frep-render's `to_world` of a camera light (x right, y up, z towards the viewer). */
-export function lightToWorld(d: readonly number[], right: Vec3, up: Vec3, forward: Vec3): Vec3 {
-  const v: Vec3 = [0, 1, 2].map((k) => right[k]! * d[0]! + up[k]! * d[1]! - forward[k]! * d[2]!) as Vec3;
-  const l = Math.hypot(v[0], v[1], v[2]);
-  return l > 0 ? [v[0] / l, v[1] / l, v[2] / l] : v;
 }
 
 interface Current {
@@ -296,7 +291,6 @@ class RaycastView implements ModeView {
   private uniforms(cur: Current, w: number, h: number): void {
     const gl = this.gl;
     const p = cur.program;
-    const s = this.ctx.scene;
     for (const u of cur.artefact.uniforms) {
       if (u.name === 'u_consts' || u.name === 'u_xextra') setUniform(gl, p, u.name, u.type, u.values);
       if (u.name === 'u_params') {
@@ -305,36 +299,16 @@ class RaycastView implements ModeView {
         setUniform(gl, p, u.name, u.type, vals);
       }
     }
-    const f = cameraFrame(this.ctx.camera(), this.bounds, w, h);
-    const b = cur.artefact.bounds;
-    const v3 = (name: string, v: readonly number[]): void => setUniform(gl, p, name, 'vec3', v);
-    setUniform(gl, p, 'u_resolution', 'vec2', [w, h]);
-    v3('u_eye', f.eye);
-    v3('u_right', f.right);
-    v3('u_up', f.up);
-    v3('u_forward', f.forward);
-    setUniform(gl, p, 'u_k', 'float', [f.k]);
-    setUniform(gl, p, 'u_perspective', 'float', [f.perspective ? 1 : 0]);
-    v3('u_box_min', b.slice(0, 3));
-    v3('u_box_max', b.slice(3, 6));
-    setUniform(gl, p, 'u_max_steps', 'int', [this.opts.maxSteps]);
-    v3('u_bg_top', s.backgroundTop);
-    v3('u_bg_bottom', s.backgroundBottom);
-    v3('u_base', s.baseColor);
-    v3('u_cap', s.sectionCap);
-    v3('u_key', lightToWorld(s.key.dir, f.right, f.up, f.forward));
-    v3('u_fill', lightToWorld(s.fill.dir, f.right, f.up, f.forward));
-    v3('u_rim', lightToWorld(s.rim.dir, f.right, f.up, f.forward));
-    v3('u_key_color', s.key.color);
-    v3('u_fill_color', s.fill.color);
-    v3('u_rim_color', s.rim.color);
-    v3('u_sky', s.sky);
-    v3('u_ground', s.ground);
-    setUniform(gl, p, 'u_specular', 'float', [s.specular]);
-    setUniform(gl, p, 'u_shininess', 'float', [s.shininess]);
-    const sec = this.section;
-    setUniform(gl, p, 'u_section', 'vec4', sec ? [...sec.normal, sec.offset] : [0, 0, 1, 0]);
-    setUniform(gl, p, 'u_section_on', 'float', [sec ? 1 : 0]);
+    setSceneUniforms(gl, p, {
+      camera: this.ctx.camera(),
+      framing: this.bounds,
+      box: cur.artefact.bounds,
+      width: w,
+      height: h,
+      scene: this.ctx.scene,
+      section: this.section,
+      maxSteps: this.opts.maxSteps,
+    });
   }
 
   dispose(): void {

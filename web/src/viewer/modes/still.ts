@@ -1,0 +1,194 @@
+/**
+ * Mode 1, the server's still image: a still is requested over HTTP at the
+ * viewport's size in device pixels for the current camera (content
+ * addressed, so a repeated view is a cache hit); while the user orbits, the
+ * camera goes to the session and the server streams frames (lower
+ * resolution while moving), shown latest-only and acknowledged. Without a
+ * session, moving frames are HTTP stills at the moving scale, one at a
+ * time. When the camera stops, a full-resolution still replaces them.
+ * The previous picture stays on screen until the next one is decoded.
+ */
+import type { CameraView, ImageEncoding, Mode } from '../../wire';
+import { frameMime } from '../../session/binary';
+import { LatestFrames } from '../../session/latest';
+import type { ReceivedFrame } from '../../session/session';
+import { sameCamera } from '../camera';
+import type { ModeContext, ModeModel, ModeModule, ModeView, SectionPlane } from '../types';
+import { decodeImage, fetchArtefact, isAbort } from './artefact';
+
+/** Limits of a still (device pixels). */
+const MAX_SIDE = 2048;
+
+type Drawable = ImageBitmap | HTMLImageElement;
+
+class StillView implements ModeView {
+  readonly mode: Mode = 'still';
+  private ctx!: ModeContext;
+  private canvas!: HTMLCanvasElement;
+  private model: ModeModel | null = null;
+  private frames!: LatestFrames<ReceivedFrame>;
+  private offFrame: (() => void) | null = null;
+  private stillAbort: AbortController | null = null;
+  private movingBusy = false;
+  private movingWanted = false;
+  private stillTimer: ReturnType<typeof setTimeout> | null = null;
+  private shownCamera: CameraView | null = null;
+
+  async mount(ctx: ModeContext): Promise<void> {
+    this.ctx = ctx;
+    this.canvas = document.createElement('canvas');
+    this.canvas.className = 'frep-mode-canvas';
+    this.canvas.dataset.mode = 'still';
+    ctx.container.append(this.canvas);
+    this.frames = new LatestFrames<ReceivedFrame>(
+      (f) => this.drawFrame(f),
+      (f) => {
+        const latency = f.askedAt === null ? 0 : performance.now() - f.askedAt;
+        this.ctx.session?.frameAck(f.header.seq, latency);
+        this.ctx.frame();
+      },
+    );
+    if (ctx.session) this.offFrame = ctx.session.on('frame', (f) => this.frames.push(f));
+  }
+
+  async show(model: ModeModel): Promise<void> {
+    this.model = model;
+    this.frames.reset();
+    const bytes = await this.fetchStill(this.ctx.camera(), false, model.signal);
+    if (bytes !== null) this.ctx.displayed(bytes);
+  }
+
+  setCamera(c: CameraView): void {
+    if (!this.model) return;
+    const s = this.ctx.session;
+    const moving = this.ctx.moving();
+    const size = this.ctx.size();
+    if (s && s.state === 'open') {
+      s.camera(c, moving, Math.round(size.width * size.pixelRatio), Math.round(size.height * size.pixelRatio));
+    } else if (moving) {
+      this.movingWanted = true;
+      void this.pumpMoving();
+    }
+    // The still of a resting camera comes over HTTP (cached by content), after a short calm.
+    if (this.stillTimer) clearTimeout(this.stillTimer);
+    this.stillTimer = setTimeout(() => {
+      this.stillTimer = null;
+      if (!this.ctx.moving()) this.refreshStill();
+    }, moving ? 250 : 30);
+  }
+
+  setParams(): void {}
+
+  setSection(_s: SectionPlane | null): void {
+    // The image API has no section yet: the viewer reports it (see the badge).
+  }
+
+  resize(): void {
+    if (this.model) this.refreshStill();
+  }
+
+  dispose(): void {
+    this.offFrame?.();
+    this.stillAbort?.abort();
+    if (this.stillTimer) clearTimeout(this.stillTimer);
+    this.canvas.remove();
+  }
+
+  private refreshStill(): void {
+    if (!this.model) return;
+    const cam = this.ctx.camera();
+    if (this.shownCamera && sameCamera(cam, this.shownCamera) && !this.sizeChanged()) return;
+    this.stillAbort?.abort();
+    const ac = new AbortController();
+    this.stillAbort = ac;
+    const both = AbortSignal.any ? AbortSignal.any([ac.signal, this.model.signal]) : ac.signal;
+    void this.fetchStill(cam, false, both).catch(() => {});
+  }
+
+  private sizeChanged(): boolean {
+    const { width, height, pixelRatio } = this.ctx.size();
+    return this.canvas.width !== this.pixels(width, pixelRatio, 1) || this.canvas.height !== this.pixels(height, pixelRatio, 1);
+  }
+
+  private async pumpMoving(): Promise<void> {
+    if (this.movingBusy) return;
+    this.movingBusy = true;
+    try {
+      while (this.movingWanted && this.model) {
+        this.movingWanted = false;
+        await this.fetchStill(this.ctx.camera(), true, this.model.signal).catch(() => null);
+      }
+    } finally {
+      this.movingBusy = false;
+    }
+  }
+
+  private pixels(css: number, ratio: number, scale: number): number {
+    return Math.max(16, Math.min(MAX_SIDE, Math.round((css * ratio) / scale)));
+  }
+
+  /** Fetches and draws one still; resolves with its bytes (null: superseded). */
+  private async fetchStill(camera: CameraView, moving: boolean, signal: AbortSignal): Promise<number | null> {
+    const model = this.model;
+    if (!model) return null;
+    const st = model.settings;
+    const { width, height, pixelRatio } = this.ctx.size();
+    const scale = moving ? Math.max(1, st?.movingScale ?? 2) : 1;
+    const format: ImageEncoding = st?.format ?? 'jpeg';
+    const quality = moving ? (st?.movingQuality ?? 50) : (st?.quality ?? 85);
+    try {
+      const got = await fetchArtefact(
+        this.ctx.api,
+        model.show,
+        { kind: 'image', camera, width: this.pixels(width, pixelRatio, scale), height: this.pixels(height, pixelRatio, scale), format, quality },
+        signal,
+        this.ctx.progress,
+      );
+      const img = await decodeImage(got.blob);
+      if (signal.aborted || this.model !== model) return null;
+      this.draw(img, camera);
+      this.ctx.frame();
+      return got.bytes;
+    } catch (e) {
+      if (isAbort(e) || signal.aborted) return null;
+      throw e;
+    }
+  }
+
+  private async drawFrame(f: ReceivedFrame): Promise<boolean> {
+    // A late frame of an old camera never replaces the still of the camera at rest.
+    if (!this.ctx.moving() && !sameCamera(f.header.camera, this.ctx.camera())) return false;
+    const blob = new Blob([f.payload as BlobPart], { type: frameMime(f.header.format) });
+    const img = await decodeImage(blob);
+    this.draw(img, f.header.camera);
+    return true;
+  }
+
+  private draw(img: Drawable, camera: CameraView): void {
+    const { width, height, pixelRatio } = this.ctx.size();
+    const w = this.pixels(width, pixelRatio, 1);
+    const h = this.pixels(height, pixelRatio, 1);
+    if (this.canvas.width !== w || this.canvas.height !== h) {
+      this.canvas.width = w;
+      this.canvas.height = h;
+    }
+    const g = this.canvas.getContext('2d');
+    if (!g) return;
+    g.imageSmoothingEnabled = true;
+    g.clearRect(0, 0, w, h);
+    g.drawImage(img, 0, 0, w, h);
+    if ('close' in img) img.close();
+    this.shownCamera = camera;
+  }
+}
+
+/** Mode 1. */
+export const modes: readonly Mode[] = ['still'];
+
+/** Creates the still-image view. */
+export function create(): ModeView {
+  return new StillView();
+}
+
+const _check: ModeModule = { modes, create };
+void _check;
