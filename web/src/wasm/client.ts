@@ -132,6 +132,13 @@ export class KernelClient {
     return r.evalsPerSecond;
   }
 
+  /** The attributes s[1..3] as an RGBA volume (alpha 0 where absent). */
+  async colorVolume(source: string, params: number[], bounds: number[], grid: number): Promise<Uint8Array> {
+    const r = await this.send({ kind: 'colorVolume', source, params, bounds, grid });
+    if (r.kind !== 'colorVolume') throw new KernelWorkerError(`unexpected answer ${r.kind}`);
+    return r.rgba;
+  }
+
   /** Stops the running request of a channel at its next pass. */
   cancel(channel: Channel): void {
     this.worker.postMessage({ id: this.nextId++, kind: 'cancel', channel });

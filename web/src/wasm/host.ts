@@ -47,6 +47,50 @@ export function benchPoints(bounds: number[], n: number): Float64Array {
   return xyz;
 }
 
+/** Largest colour volume sampled (samples per axis). */
+export const MAX_COLOR_GRID = 128;
+
+/**
+ * The attributes `s[1..3]` at the voxel centres of a `grid`³ lattice over
+ * `bounds` (x fastest), as RGBA bytes: alpha 255 where the three are
+ * numbers, 0 elsewhere (no attributes, or an error there).
+ */
+export function colorVolume(
+  kernel: FrepKernel,
+  handle: number,
+  bounds: number[],
+  grid: number,
+  params: number[],
+): Uint8Array {
+  const n = Math.max(1, Math.min(MAX_COLOR_GRID, Math.floor(grid)));
+  const rgba = new Uint8Array(4 * n * n * n);
+  const row = n * n;
+  // One z slice per call: n² points.
+  const xyz = new Float64Array(3 * row);
+  const c = (a: number, i: number): number => bounds[a]! + ((i + 0.5) / n) * (bounds[a + 3]! - bounds[a]!);
+  for (let k = 0; k < n; k++) {
+    for (let j = 0; j < n; j++) {
+      for (let i = 0; i < n; i++) {
+        const q = j * n + i;
+        xyz[q] = c(0, i);
+        xyz[row + q] = c(1, j);
+        xyz[2 * row + q] = c(2, k);
+      }
+    }
+    const { outputs, values } = kernel.evalPoints(handle, xyz, params);
+    if (outputs < 4) return rgba;
+    for (let q = 0; q < row; q++) {
+      const s = [values[row + q]!, values[2 * row + q]!, values[3 * row + q]!];
+      const o = 4 * (k * row + q);
+      if (s.every((v) => Number.isFinite(v))) {
+        for (let a = 0; a < 3; a++) rgba[o + a] = Math.round(255 * Math.max(0, Math.min(1, s[a]!)));
+        rgba[o + 3] = 255;
+      }
+    }
+  }
+  return rgba;
+}
+
 export class KernelHost {
   private readonly latest = new Map<Channel, number>();
   private loading: Promise<FrepKernel> | null = null;
@@ -162,6 +206,12 @@ export class KernelHost {
       case 'mesh':
         await this.mesh(req);
         return;
+      case 'colorVolume': {
+        const c = this.model(req.source, undefined, req.params);
+        const rgba = colorVolume(this.need(), c.handle, req.bounds, req.grid, req.params);
+        this.post({ id: req.id, kind: 'colorVolume', rgba, grid: req.grid, ms: now() - t0 }, [rgba.buffer as ArrayBuffer]);
+        return;
+      }
     }
   }
 

@@ -26,10 +26,20 @@ export type KernelRequest =
     }
   | { id: number; kind: 'shader'; source: string; body?: string; params: number[]; bounds: number[] | null }
   | { id: number; kind: 'bench'; source: string; points: number }
+  | {
+      id: number;
+      kind: 'colorVolume';
+      source: string;
+      params: number[];
+      /** The sampled box. */
+      bounds: number[];
+      /** Samples per axis (voxel centres, x fastest). */
+      grid: number;
+    }
   | { id: number; kind: 'cancel'; channel: Channel };
 
 /** Requests that supersede each other share a channel. */
-export type Channel = 'diagnose' | 'compile' | 'mesh' | 'shader' | 'bench';
+export type Channel = 'diagnose' | 'compile' | 'mesh' | 'shader' | 'bench' | 'colorVolume';
 
 /** Answers from the worker. */
 export type KernelResponse =
@@ -48,6 +58,14 @@ export type KernelResponse =
     }
   | { id: number; kind: 'shader'; shader: ShaderArtefact; ms: number }
   | { id: number; kind: 'bench'; evalsPerSecond: number; points: number; ms: number }
+  | {
+      id: number;
+      kind: 'colorVolume';
+      /** RGBA per voxel (alpha 0 where the attributes failed or are absent), x fastest. */
+      rgba: Uint8Array;
+      grid: number;
+      ms: number;
+    }
   | { id: number; kind: 'cancelled' }
   | { id: number; kind: 'error'; message: string; diagnostics?: Diagnostic[] };
 
@@ -59,6 +77,7 @@ export function channelOf(kind: KernelRequest['kind']): Channel | null {
     case 'mesh':
     case 'shader':
     case 'bench':
+    case 'colorVolume':
       return kind;
     default:
       return null;

@@ -121,32 +121,22 @@ class VolumeView implements ModeView {
     const grids = volumeGrids(model.settings?.volumeGrid, this.opts);
     if (model.summary.attributes >= 3) void this.loadColors(model, live);
     else this.hasColors = false;
-    let shown = false;
-    for (const [i, grid] of grids.entries()) {
-      let v: { layout: VolumeLayout; bytes: Uint8Array };
-      try {
-        v = await this.fetchVolume(model, grid);
-      } catch (e) {
-        // A refinement that fails keeps the coarse display.
-        if (shown && live()) return;
-        throw e;
-      }
-      if (!live()) throw new DOMException('superseded', 'AbortError');
-      const [nx, ny, nz] = v.layout.dims as [number, number, number];
-      this.upload(this.volume, nx, ny, nz, v.bytes, false);
-      this.layout = v.layout;
-      this.ctx.container.dataset.grid = String(nx);
-      this.ctx.progress(`volume-${id}`, (i + 1) / grids.length);
-      const drawn = new Promise<void>((r) => (this.firstFrame = r));
-      this.schedule();
-      await drawn;
-      if (!shown) {
-        this.ctx.displayed(v.bytes.byteLength);
-        shown = true;
-      }
-      if (i === 0 && grids.length > 1) void this.refineLater(model, grids.slice(1), live);
-      if (i === 0) return;
-    }
+    const v = await this.fetchVolume(model, grids[0]!);
+    if (!live()) throw new DOMException('superseded', 'AbortError');
+    this.useVolume(v.layout, v.bytes);
+    this.ctx.progress(`volume-${id}`, 1 / grids.length);
+    const drawn = new Promise<void>((r) => (this.firstFrame = r));
+    this.schedule();
+    await drawn;
+    this.ctx.displayed(v.bytes.byteLength);
+    if (grids.length > 1) void this.refineLater(model, grids.slice(1), live);
+  }
+
+  private useVolume(layout: VolumeLayout, bytes: Uint8Array): void {
+    const [nx, ny, nz] = layout.dims as [number, number, number];
+    this.upload(this.volume, nx, ny, nz, bytes, false);
+    this.layout = layout;
+    this.ctx.container.dataset.grid = String(nx);
   }
 
   /** The finer grids after the first display (show() has resolved). */
@@ -155,10 +145,7 @@ class VolumeView implements ModeView {
       try {
         const v = await this.fetchVolume(model, grid);
         if (!live()) return;
-        const [nx, ny, nz] = v.layout.dims as [number, number, number];
-        this.upload(this.volume, nx, ny, nz, v.bytes, false);
-        this.layout = v.layout;
-        this.ctx.container.dataset.grid = String(nx);
+        this.useVolume(v.layout, v.bytes);
         this.ctx.progress(`volume-${this.request}`, 1);
         this.schedule();
       } catch (e) {
@@ -224,7 +211,7 @@ class VolumeView implements ModeView {
       this.fence = null;
       this.resolution.record(performance.now() - f.start, f.scale, f.moving);
       this.ctx.frame();
-      if (f.fine && this.firstFrame) {
+      if (this.firstFrame) {
         const r = this.firstFrame;
         this.firstFrame = null;
         r();
