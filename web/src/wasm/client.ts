@@ -7,7 +7,7 @@
  */
 import type { Diagnostic, ShaderArtefact } from '../wire';
 import type { CompileOptions, KernelCompiled, KernelMesh } from './kernel';
-import type { Channel, KernelRequest, KernelResponse } from './protocol';
+import type { Channel, KernelRequest, KernelResponse, ProbeHit } from './protocol';
 
 /** A request superseded by a newer one, or cancelled. */
 export class KernelCancelled extends Error {
@@ -137,6 +137,18 @@ export class KernelClient {
     const r = await this.send({ kind: 'colorVolume', source, params, bounds, grid });
     if (r.kind !== 'colorVolume') throw new KernelWorkerError(`unexpected answer ${r.kind}`);
     return r.rgba;
+  }
+
+  /** The value and attributes at a point, or the first surface point along a ray. */
+  async probe(req: {
+    source: string;
+    params: number[];
+    point?: [number, number, number];
+    ray?: { origin: [number, number, number]; dir: [number, number, number]; bounds: number[] };
+  }): Promise<ProbeHit | null> {
+    const r = await this.send({ kind: 'probe', ...req });
+    if (r.kind !== 'probe') throw new KernelWorkerError(`unexpected answer ${r.kind}`);
+    return r.hit;
   }
 
   /** Stops the running request of a channel at its next pass. */

@@ -12,7 +12,7 @@
  * time; an evicted model is freed in the module and compiled again when
  * needed.
  */
-import type { Channel, KernelRequest, KernelResponse } from './protocol';
+import type { Channel, KernelRequest, KernelResponse, ProbeHit } from './protocol';
 
 import { channelOf } from './protocol';
 import type { FrepKernel, KernelCompiled } from './kernel';
@@ -45,6 +45,65 @@ export function benchPoints(bounds: number[], n: number): Float64Array {
     for (let i = 0; i < n; i++) xyz[a * n + i] = lo + (hi - lo) * rnd();
   }
   return xyz;
+}
+
+/** Samples along a probed ray before bisection. */
+export const PROBE_SAMPLES = 1024;
+
+/** Value and attributes at a point (the point evaluator; NaN for an error). */
+export function probeAt(kernel: FrepKernel, handle: number, p: [number, number, number], params: number[]): ProbeHit {
+  const r = kernel.evalPoint(handle, p[0], p[1], p[2], params);
+  if (r.ok) return { point: p, value: r.values[0]!, attributes: r.values.slice(1) };
+  return { point: p, value: Number.NaN, attributes: [] };
+}
+
+/**
+ * The first point of a ray inside `bounds` where the field is >= 0:
+ * {@link PROBE_SAMPLES} samples along the clipped ray, then bisection to
+ * float precision between the last outside and first inside sample.
+ */
+export function marchRay(
+  kernel: FrepKernel,
+  handle: number,
+  ray: { origin: [number, number, number]; dir: [number, number, number]; bounds: number[] },
+  params: number[],
+): [number, number, number] | null {
+  const { origin: o, dir: d, bounds: b } = ray;
+  let t0 = 0;
+  let t1 = Number.POSITIVE_INFINITY;
+  for (let a = 0; a < 3; a++) {
+    const inv = 1 / (d[a] === 0 ? 1e-30 : d[a]!);
+    const ta = (b[a]! - o[a]!) * inv;
+    const tb = (b[a + 3]! - o[a]!) * inv;
+    t0 = Math.max(t0, Math.min(ta, tb));
+    t1 = Math.min(t1, Math.max(ta, tb));
+  }
+  if (!(t0 < t1)) return null;
+  const n = PROBE_SAMPLES;
+  const xyz = new Float64Array(3 * n);
+  const tAt = (i: number): number => t0 + ((t1 - t0) * i) / (n - 1);
+  for (let i = 0; i < n; i++) for (let a = 0; a < 3; a++) xyz[a * n + i] = o[a]! + d[a]! * tAt(i);
+  const { values } = kernel.evalPoints(handle, xyz, params);
+  let first = -1;
+  for (let i = 0; i < n; i++) {
+    if (values[i]! >= 0) {
+      first = i;
+      break;
+    }
+  }
+  if (first < 0) return null;
+  const at = (t: number): [number, number, number] => [o[0] + d[0] * t, o[1] + d[1] * t, o[2] + d[2] * t];
+  if (first === 0) return at(t0);
+  let lo = tAt(first - 1);
+  let hi = tAt(first);
+  const one = new Float64Array(3);
+  for (let k = 0; k < 48 && hi - lo > 1e-12 * Math.max(1, Math.abs(hi)); k++) {
+    const m = 0.5 * (lo + hi);
+    one.set(at(m));
+    if (kernel.evalPoints(handle, one, params).values[0]! >= 0) hi = m;
+    else lo = m;
+  }
+  return at(hi);
 }
 
 /** Largest colour volume sampled (samples per axis). */
@@ -206,6 +265,14 @@ export class KernelHost {
       case 'mesh':
         await this.mesh(req);
         return;
+      case 'probe': {
+        const c = this.model(req.source, undefined, req.params);
+        const k = this.need();
+        const at = req.point ?? (req.ray ? marchRay(k, c.handle, req.ray, req.params) : null);
+        const hit = at ? probeAt(k, c.handle, at, req.params) : null;
+        this.post({ id: req.id, kind: 'probe', hit, ms: now() - t0 });
+        return;
+      }
       case 'colorVolume': {
         const c = this.model(req.source, undefined, req.params);
         const rgba = colorVolume(this.need(), c.handle, req.bounds, req.grid, req.params);

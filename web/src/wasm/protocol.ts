@@ -36,10 +36,27 @@ export type KernelRequest =
       /** Samples per axis (voxel centres, x fastest). */
       grid: number;
     }
+  | {
+      id: number;
+      kind: 'probe';
+      source: string;
+      params: number[];
+      /** A point to evaluate, or a ray to march (first surface inside `bounds`). */
+      point?: [number, number, number];
+      ray?: { origin: [number, number, number]; dir: [number, number, number]; bounds: number[] };
+    }
   | { id: number; kind: 'cancel'; channel: Channel };
 
+/** A probed point: where, the field value there, and the attributes. */
+export interface ProbeHit {
+  point: [number, number, number];
+  /** NaN where the reference interpreter reports an error. */
+  value: number;
+  attributes: number[];
+}
+
 /** Requests that supersede each other share a channel. */
-export type Channel = 'diagnose' | 'compile' | 'mesh' | 'shader' | 'bench' | 'colorVolume';
+export type Channel = 'diagnose' | 'compile' | 'mesh' | 'shader' | 'bench' | 'colorVolume' | 'probe';
 
 /** Answers from the worker. */
 export type KernelResponse =
@@ -66,6 +83,7 @@ export type KernelResponse =
       grid: number;
       ms: number;
     }
+  | { id: number; kind: 'probe'; hit: ProbeHit | null; ms: number }
   | { id: number; kind: 'cancelled' }
   | { id: number; kind: 'error'; message: string; diagnostics?: Diagnostic[] };
 
@@ -78,6 +96,7 @@ export function channelOf(kind: KernelRequest['kind']): Channel | null {
     case 'shader':
     case 'bench':
     case 'colorVolume':
+    case 'probe':
       return kind;
     default:
       return null;

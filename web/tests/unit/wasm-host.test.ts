@@ -81,6 +81,36 @@ describe.skipIf(!wasmAvailable())('kernel worker protocol', () => {
     expect(r.shader.uniforms.map((u) => u.name)).toContain('u_consts');
   });
 
+  it('probes a point and the first surface along a ray', async () => {
+    const { host: h, out } = host();
+    // The unit sphere (f = 1 - |p|^2), from +x towards the origin.
+    await h.handle({
+      id: 9,
+      kind: 'probe',
+      source: example('sphere'),
+      params: [],
+      ray: { origin: [3, 0, 0], dir: [-1, 0, 0], bounds: [-1.2, -1.2, -1.2, 1.2, 1.2, 1.2] },
+    });
+    const r = out[0]!;
+    expect(r.kind).toBe('probe');
+    if (r.kind !== 'probe') return;
+    expect(r.hit!.point[0]).toBeCloseTo(1, 9);
+    expect(Math.abs(r.hit!.value)).toBeLessThan(1e-9);
+    await h.handle({ id: 10, kind: 'probe', source: example('android_robot'), params: [], point: [0, 0, 0] });
+    const p = out[1]!;
+    if (p.kind !== 'probe') throw new Error(p.kind);
+    expect(p.hit!.value).toBeGreaterThan(0);
+    [0.64, 0.78, 0.22].forEach((v, i) => expect(p.hit!.attributes[i]).toBeCloseTo(v, 12));
+    await h.handle({
+      id: 11,
+      kind: 'probe',
+      source: example('sphere'),
+      params: [],
+      ray: { origin: [3, 3, 0], dir: [0, 0, 1], bounds: [-1.2, -1.2, -1.2, 1.2, 1.2, 1.2] },
+    });
+    expect(out[2]).toMatchObject({ kind: 'probe', hit: null });
+  });
+
   it('the client resolves answers and rejects superseded requests', async () => {
     const h = new KernelHost(kernel, (r) => fake.onmessage?.({ data: r } as MessageEvent<KernelResponse>));
     const fake: WorkerLike = {
