@@ -31,6 +31,9 @@ use crate::predict::{predict, Inputs, Limits, Prediction};
 /// Cost of an infeasible mode (finite so that it serializes as JSON).
 pub const INFEASIBLE_COST: f64 = 1.0e9;
 
+/// Screen pixels per mesh cell at which a mesh looks smooth enough.
+pub const MESH_PIXELS_PER_CELL: f64 = 6.0;
+
 /// Weights of the cost.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 #[serde(rename_all = "camelCase")]
@@ -57,7 +60,9 @@ pub struct CostWeights {
     pub full_quality: u8,
     /// Per unit of (screen side / rendered side − 1).
     pub per_undersize: f64,
-    /// Per octree level below the most tried.
+    /// Mesh coarseness: `per_mesh_level × (2^deficit − 1)` where the
+    /// deficit is the levels below the depth that puts one cell under
+    /// ~[`MESH_PIXELS_PER_CELL`] screen pixels.
     pub per_mesh_level: f64,
 }
 
@@ -75,8 +80,8 @@ impl Default for CostWeights {
             mode_penalty: [40.0, 200.0, 15.0, 0.0, 15.0, 120.0],
             per_quality_point: 3.0,
             full_quality: 85,
-            per_undersize: 60.0,
-            per_mesh_level: 25.0,
+            per_undersize: 150.0,
+            per_mesh_level: 60.0,
         }
     }
 }
@@ -132,11 +137,10 @@ fn settings_penalty(
             let sparse = (24.0 / f64::from(s.views.max(1)) - 1.0).max(0.0) * 40.0;
             quality + undersize(wanted.min(512.0)) + sparse + 20.0 / rings
         }
-        Mode::ServerMesh => {
-            f64::from(limits.server_mesh_depths.1.saturating_sub(s.mesh_depth)) * w.per_mesh_level
-        }
-        Mode::WasmMesh => {
-            f64::from(limits.server_mesh_depths.1.saturating_sub(s.mesh_depth)) * w.per_mesh_level
+        Mode::ServerMesh | Mode::WasmMesh => {
+            let wanted = (screen_side / MESH_PIXELS_PER_CELL).log2().clamp(5.0, 9.0);
+            let deficit = (wanted - f64::from(s.mesh_depth)).max(0.0);
+            (deficit.exp2() - 1.0) * w.per_mesh_level
         }
         Mode::GpuRaycast => undersize(screen_side),
         Mode::Volume => {
@@ -194,7 +198,7 @@ pub fn candidates(mode: Mode, inputs: &Inputs, limits: &Limits) -> Vec<ModeSetti
             for k in [1.0, 0.75, 0.5] {
                 for q in [85u8, 75, 60, 50, 40] {
                     let (width, height) = scale((base.width, base.height), k);
-                    for moving_scale in [2.0, 3.0] {
+                    for moving_scale in [2.0, 3.0, 4.0] {
                         out.push(ModeSettings {
                             width,
                             height,

@@ -522,11 +522,16 @@ impl Engine {
         let outcome = self.hysteresis(trigger, &scored, best, now_ms);
         let settings_changed = self.settings_changed(trigger, &scored[outcome.target]);
         let issue = outcome.issue || settings_changed;
+        let before = self.current.as_ref().map(|d| d.mode);
         let decision = issue.then(|| self.issue(trigger, &scored, &outcome));
         self.record(trigger, now_ms, &scored, best, &outcome, decision.as_ref());
-        if decision.is_some() {
-            self.pending = None;
+        if let Some(d) = &decision {
+            // New settings or a new mode need new frame-rate measurements;
+            // a preferred mode keeps waiting unless the mode changed.
             self.slow_since = None;
+            if before != Some(d.mode) {
+                self.pending = None;
+            }
         }
         decision
     }

@@ -11,13 +11,15 @@
 //!   figures for this model ([`crate::Measured`]) are scaled to the
 //!   settings (per pixel, per triangle, per cell); otherwise images cost
 //!   [`RENDER_MS_PER_MPIX_CLOSED`] (closed form, ≈ 3.5 ms at 512²) or
-//!   [`RENDER_MS_PER_MPIX_BASE`] + [`RENDER_MS_PER_MPIX_PER_OP`] × tape
-//!   length per megapixel (≈ 18 ms at 512² for 50 operations, ≈ 58 ms for
-//!   300), plus [`ENCODE_MS_PER_MPIX`]; meshes have
-//!   [`MESH_TRIANGLES_PER_CELL_FACTOR`] × 4^depth triangles (a mesh grows
-//!   ~4× per octree level) at [`MESH_SERVER_US_PER_TRIANGLE`] ×
-//!   (1 + tape / [`MESH_TAPE_SCALE`]) µs each; volumes cost grid³ point
-//!   evaluations at [`SERVER_MEVALS_PER_S`] for a [`REFERENCE_TAPE`]-op tape.
+//!   [`RENDER_MS_PER_MPIX_GENERAL`] × `w` per megapixel (≈ 21 ms at 512²
+//!   for 40 operations, ≈ 57 ms for 300), plus [`ENCODE_MS_PER_MPIX`];
+//!   meshes have [`MESH_TRIANGLES_PER_CELL_FACTOR`] × 4^depth triangles (a
+//!   mesh grows ~4× per octree level) at [`MESH_SERVER_US_PER_TRIANGLE`] ×
+//!   `w` µs each; volumes cost grid³ point evaluations at
+//!   [`SERVER_MEVALS_PER_S`] / `w`. Here `w` = √(tape / [`REFERENCE_TAPE`])
+//!   ([`tape_work`]) is the work per point relative to the reference model:
+//!   sublinear in the tape length because interval pruning evaluates only
+//!   the part of the tape that matters in each region.
 //! * **bytes**: JPEG [`JPEG_BYTES_PER_PIXEL_Q75`] bytes per pixel at q75
 //!   (22 kB at 512²), scaled by quality and, for small views, by
 //!   (512² / pixels)^¼ (12 views of 256² ≈ 99 kB); meshopt glb
@@ -53,10 +55,9 @@ use crate::stats::{ModelStats, ServerLoad};
 
 /// Server render ms per megapixel of a closed-form model.
 pub const RENDER_MS_PER_MPIX_CLOSED: f64 = 14.0;
-/// Server render ms per megapixel of a general model, fixed part.
-pub const RENDER_MS_PER_MPIX_BASE: f64 = 40.0;
-/// Server render ms per megapixel per tape operation.
-pub const RENDER_MS_PER_MPIX_PER_OP: f64 = 0.6;
+/// Server render ms per megapixel of a general model of
+/// [`REFERENCE_TAPE`] operations.
+pub const RENDER_MS_PER_MPIX_GENERAL: f64 = 80.0;
 /// Server JPEG encoding ms per megapixel (8 ms at 512² on 2 cores).
 pub const ENCODE_MS_PER_MPIX: f64 = 30.0;
 /// JPEG bytes per pixel at quality 75 (22 kB at 512²).
@@ -64,10 +65,8 @@ pub const JPEG_BYTES_PER_PIXEL_Q75: f64 = 0.084;
 /// Triangles = this × 4^depth (a compact solid filling a fair part of its
 /// box; a gyroid has ~10).
 pub const MESH_TRIANGLES_PER_CELL_FACTOR: f64 = 4.0;
-/// Server polygonizing µs per triangle for a tiny tape.
-pub const MESH_SERVER_US_PER_TRIANGLE: f64 = 1.0;
-/// Tape length that doubles the polygonizing cost per triangle.
-pub const MESH_TAPE_SCALE: f64 = 50.0;
+/// Server polygonizing µs per triangle for the reference tape.
+pub const MESH_SERVER_US_PER_TRIANGLE: f64 = 2.0;
 /// Fixed server ms of any mesh job.
 pub const MESH_SERVER_BASE_MS: f64 = 10.0;
 /// Quantized meshopt glb bytes per triangle.
@@ -85,7 +84,7 @@ pub const REFERENCE_STATEMENTS: f64 = 40.0;
 /// Triangles per ms drawn by a GPU whose benchmark takes 1 ms.
 pub const TRIANGLES_PER_MS_AT_1MS_BENCH: f64 = 5.0e5;
 /// Cost of a rasterized pixel relative to a ray-marched one.
-pub const RASTER_FILL_FRACTION: f64 = 0.05;
+pub const RASTER_FILL_FRACTION: f64 = 0.02;
 /// Cost of a volume ray-march pixel (64³) relative to the benchmark's.
 pub const VOLUME_MARCH_FACTOR: f64 = 0.5;
 /// Fixed ms of compiling and linking a generated shader.
@@ -141,7 +140,7 @@ impl Default for Limits {
         Limits {
             max_primitives_gpu: 1000,
             max_statements_gpu: 12_000,
-            max_compile_ms: 15_000.0,
+            max_compile_ms: 5_000.0,
             max_first_display_ms: 60_000.0,
             min_memory_gb_wasm: 2.0,
             max_triangles_desktop: 4.0e6,
@@ -482,6 +481,12 @@ fn gpu_refusal(inputs: &Inputs, limits: &Limits) -> Option<String> {
     None
 }
 
+/// Work per point evaluation relative to the reference model's (see the
+/// module doc).
+pub fn tape_work(stats: &ModelStats) -> f64 {
+    (f64::from(stats.tape_len.max(4)) / REFERENCE_TAPE).sqrt()
+}
+
 /// Predicted ms to compile the generated shader (to its first frame).
 pub fn compile_ms(inputs: &Inputs) -> f64 {
     let caps = inputs.caps;
@@ -504,7 +509,7 @@ pub fn server_image_ms(inputs: &Inputs, pixels: f64) -> f64 {
             let render = if stats.closed_form {
                 RENDER_MS_PER_MPIX_CLOSED
             } else {
-                RENDER_MS_PER_MPIX_BASE + RENDER_MS_PER_MPIX_PER_OP * f64::from(stats.tape_len)
+                RENDER_MS_PER_MPIX_GENERAL * tape_work(stats)
             };
             render + ENCODE_MS_PER_MPIX
         }
@@ -611,9 +616,7 @@ pub fn server_mesh_ms(inputs: &Inputs, depth: u8) -> f64 {
     let ms = match stats.measured.mesh {
         Some(m) if m.triangles > 0 => m.server_ms * tris / m.triangles as f64,
         _ => {
-            let per = MESH_SERVER_US_PER_TRIANGLE
-                * (1.0 + f64::from(stats.tape_len) / MESH_TAPE_SCALE)
-                / 1000.0;
+            let per = MESH_SERVER_US_PER_TRIANGLE * tape_work(stats) / 1000.0;
             MESH_SERVER_BASE_MS + per * tris
         }
     };
@@ -696,8 +699,8 @@ pub fn wasm_mesh_ms(inputs: &Inputs, depth: u8) -> f64 {
     let Some(meps) = inputs.caps.wasm_meps else {
         return f64::INFINITY;
     };
-    let tape = f64::from(inputs.stats.tape_len.max(4)) / REFERENCE_TAPE;
-    let evals = mesh_triangles(inputs.stats, depth) * WASM_EVALS_PER_TRIANGLE * tape;
+    let evals =
+        mesh_triangles(inputs.stats, depth) * WASM_EVALS_PER_TRIANGLE * tape_work(inputs.stats);
     evals / (meps * 1000.0)
 }
 
@@ -726,9 +729,8 @@ pub fn server_volume_ms(inputs: &Inputs, grid: u32) -> f64 {
     let ms = match inputs.stats.measured.volume {
         Some(v) => v.server_ms * cells / f64::from(v.grid).powi(3),
         None => {
-            let tape = f64::from(inputs.stats.tape_len.max(4)) / REFERENCE_TAPE;
             // Evaluation plus compression (~1e-5 ms per cell).
-            cells * tape / (SERVER_MEVALS_PER_S * 1000.0) + cells * 1.0e-5
+            cells * tape_work(inputs.stats) / (SERVER_MEVALS_PER_S * 1000.0) + cells * 1.0e-5
         }
     };
     ms * inputs.load.factor()
