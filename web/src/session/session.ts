@@ -314,6 +314,10 @@ export class Session {
         this.events.emit('error', 'the server sent a message that is not JSON');
         return;
       }
+      if (!msg || typeof msg !== 'object' || typeof (msg as { type?: unknown }).type !== 'string') {
+        this.events.emit('error', 'the server sent a message without a type');
+        return;
+      }
       this.handle(msg);
       return;
     }
@@ -373,6 +377,11 @@ export class Session {
     this.camerasInFlight = Math.max(0, this.camerasInFlight - 1);
     const asked = this.askedAt(header.camera);
     this.events.emit('frame', { seq: header.seq, header, payload, arrivedAt: now, askedAt: asked });
+    // A frame frees the pipe: a camera waiting for it goes now (or at its interval).
+    if (this.cameraTimer !== null) {
+      this.clearTimer(this.cameraTimer);
+      this.cameraTimer = null;
+    }
     if (this.pendingCamera) this.flushCamera();
   }
 

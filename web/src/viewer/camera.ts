@@ -12,7 +12,8 @@
  * the image at zoom 1; the field of view (or the orthographic extent)
  * applies to the shorter side. Zoom divides the eye's distance
  * (perspective) or the half extent (orthographic); pan moves the target
- * and the eye together.
+ * and the eye together; an orthographic eye sits 2r + |pan| from the target
+ * (crates/frep-artefact/src/camera.rs).
  *
  * Also the interactions on a camera (orbit, pan, zoom, standard views,
  * fit), pure functions of a CameraView.
@@ -100,7 +101,8 @@ export const PITCH_LIMIT = 89.9;
 /** The frame and projection of `view` for a `width`×`height` viewport framing `bounds`. */
 export function cameraFrame(view: CameraView, bounds: Box6, width: number, height: number): CameraFrame {
   const r = Math.max(boxRadius(bounds), 1e-12);
-  const pan: Vec3 = [view.pan[0] ?? 0, view.pan[1] ?? 0, view.pan[2] ?? 0];
+  const fin = (v: number | undefined) => (v !== undefined && Number.isFinite(v) ? v : 0);
+  const pan: Vec3 = [fin(view.pan[0]), fin(view.pan[1]), fin(view.pan[2])];
   const target = add(boxCenter(bounds), pan);
   const yaw = view.yaw * deg;
   const pitch = view.pitch * deg;
@@ -120,7 +122,8 @@ export function cameraFrame(view: CameraView, bounds: Box6, width: number, heigh
     distance = r / Math.sin(half) / zoom;
     k = Math.tan(0.5 * (view.fov as number) * deg);
   } else {
-    distance = 2 * r;
+    // In front of the whole box wherever it is panned to (frep-artefact's camera).
+    distance = 2 * r + length(pan);
     k = r / zoom;
   }
   const eye = add(target, scale(back, distance));
