@@ -56,7 +56,7 @@ export class KernelClient {
 
   constructor(
     private readonly worker: WorkerLike,
-    wasmUrl = '/frep.wasm',
+    wasmUrl = defaultWasmUrl(),
   ) {
     worker.onmessage = (ev) => this.receive(ev.data);
     this.ready = this.send({ kind: 'init', wasmUrl }).then(() => undefined);
@@ -162,6 +162,14 @@ export class KernelClient {
     for (const p of this.pending.values()) p.reject(new KernelCancelled('the kernel was stopped'));
     this.pending.clear();
   }
+}
+
+/**
+ * `/frep.wasm` on the page's origin, absolute: a worker loaded from a blob
+ * or another path resolves it the same.
+ */
+export function defaultWasmUrl(): string {
+  return typeof location !== 'undefined' ? new URL('/frep.wasm', location.href).href : '/frep.wasm';
 }
 
 let shared: KernelClient | null = null;

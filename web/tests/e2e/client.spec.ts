@@ -1,0 +1,229 @@
+/**
+ * The client modes end to end in headless Chromium (SwiftShader): mode 4a
+ * (the generated shader ray cast on the GPU), 4b (meshes made by the
+ * WebAssembly kernel in a worker) and the volume mode (the server's 3D
+ * texture ray marched), each mounted alone by client-harness.ts on the
+ * server's origin. Each image's silhouette matches the server's reference
+ * render of the same camera (IoU ≥ 0.95); a parameter change in 4a changes
+ * the image without compiling again; a model too large for a browser's
+ * shader compiler is refused with its reason.
+ */
+import { existsSync, readFileSync } from 'node:fs';
+import { join } from 'node:path';
+import { expect, type Page, test } from '@playwright/test';
+import { build } from 'vite';
+import type { CompileResponse, CompileSummary, Mode } from '../../src/wire';
+import { repoRoot } from './support/server';
+import { serverUrl } from './support/env';
+
+const web = join(repoRoot, 'web');
+const wasmPath = join(web, 'public', 'frep.wasm');
+const SIZE = 128;
+/** Sum of |ΔRGB| from the background gradient that makes a pixel the model's. */
+const TOLERANCE = 30;
+
+type Files = Map<string, { body: Buffer; type: string }>;
+let files: Files | null = null;
+
+/** Bundles client-harness.ts (and the kernel worker) with Vite, in memory. */
+async function bundle(): Promise<Files> {
+  const out = await build({
+    configFile: false,
+    root: web,
+    base: '/__client/',
+    logLevel: 'warn',
+    build: {
+      write: false,
+      minify: false,
+      target: 'es2022',
+      modulePreload: false,
+      rollupOptions: {
+        input: join(web, 'tests/e2e/client-harness.ts'),
+        output: { entryFileNames: 'harness.js', format: 'es' },
+      },
+    },
+    worker: { format: 'es' },
+  });
+  const results = (Array.isArray(out) ? out : [out]) as { output: { type: string; fileName: string; code?: string; source?: string | Uint8Array }[] }[];
+  const m: Files = new Map();
+  for (const r of results) {
+    for (const o of r.output) {
+      const body = o.type === 'chunk' ? Buffer.from(o.code ?? '') : Buffer.from(o.source ?? '');
+      const type = o.fileName.endsWith('.js') ? 'text/javascript' : 'application/octet-stream';
+      m.set(o.fileName, { body, type });
+    }
+  }
+  return m;
+}
+
+test.beforeAll(async () => {
+  if (!existsSync(wasmPath)) throw new Error(`${wasmPath} is missing: run scripts/build-wasm.sh`);
+  files = await bundle();
+});
+
+async function openHarness(page: Page, mode: Mode): Promise<void> {
+  await page.route('**/__client/**', (route) => {
+    const name = new URL(route.request().url()).pathname.replace(/^\/__client\//, '');
+    const f = files!.get(name);
+    return f ? route.fulfill({ body: f.body, contentType: f.type }) : route.fulfill({ status: 404, body: name });
+  });
+  await page.route('**/frep.wasm', (route) => route.fulfill({ body: readFileSync(wasmPath), contentType: 'application/wasm' }));
+  await page.route('**/__client.html', (route) =>
+    route.fulfill({
+      contentType: 'text/html',
+      body: '<!doctype html><html><head><meta charset="utf-8"></head><body><script type="module" src="/__client/harness.js"></script></body></html>',
+    }),
+  );
+  await page.goto('/__client.html');
+  await page.waitForFunction(() => 'frepClient' in window);
+  await page.evaluate(([m, s]) => (window as any).frepClient.mount(m, s), [mode, SIZE] as const);
+}
+
+async function compileSummary(source: string, params: number[]): Promise<CompileSummary> {
+  const r = await fetch(`${serverUrl()}/api/compile`, {
+    method: 'POST',
+    headers: { 'content-type': 'application/json' },
+    body: JSON.stringify({ source, params }),
+  });
+  expect(r.ok).toBe(true);
+  const c = (await r.json()) as CompileResponse;
+  expect(c.diagnostics).toEqual([]);
+  return c.summary!;
+}
+
+/** The server's reference render (PNG, base64) of the default camera. */
+async function serverImage(source: string, params: number[]): Promise<string> {
+  const r = await fetch(`${serverUrl()}/api/artefacts`, {
+    method: 'POST',
+    headers: { 'content-type': 'application/json' },
+    body: JSON.stringify({
+      model: { from: 'source', source },
+      params,
+      spec: {
+        kind: 'image',
+        camera: { yaw: 30, pitch: 20, fov: 30, zoom: 1, pan: [0, 0, 0] },
+        width: SIZE,
+        height: SIZE,
+        format: 'png',
+        quality: 90,
+      },
+    }),
+  });
+  expect(r.ok).toBe(true);
+  const ref = (await r.json()) as { url: string };
+  const img = await fetch(`${serverUrl()}${ref.url}`);
+  expect(img.ok).toBe(true);
+  return Buffer.from(await img.arrayBuffer()).toString('base64');
+}
+
+async function mask(page: Page, png: string): Promise<number[]> {
+  return page.evaluate(([p, t]) => (window as any).frepClient.mask(p, t), [png, TOLERANCE] as const);
+}
+
+async function layerMask(page: Page): Promise<number[]> {
+  const shot = await page.locator('#layer').screenshot();
+  return mask(page, shot.toString('base64'));
+}
+
+function iou(a: number[], b: number[]): number {
+  let both = 0;
+  let either = 0;
+  for (let i = 0; i < a.length; i++) {
+    both += a[i]! & b[i]!;
+    either += a[i]! | b[i]!;
+  }
+  return either ? both / either : 1;
+}
+
+async function show(page: Page, source: string, params: number[], summary: CompileSummary) {
+  return page.evaluate(([s, p, sum]) => (window as any).frepClient.show(s, p, sum), [source, params, summary] as const);
+}
+
+const example = (name: string): string => readFileSync(join(repoRoot, 'examples', `${name}.hf`), 'utf8');
+
+const MODES: Mode[] = ['gpuRaycast', 'wasmMesh', 'volume'];
+const EXAMPLES = ['sphere', 'm4_rblend10', 'android_robot'];
+
+for (const mode of MODES) {
+  for (const name of EXAMPLES) {
+    test(`${mode} of ${name} matches the server's render (silhouette IoU ≥ 0.95)`, async ({ page }) => {
+      const source = example(name);
+      const summary = await compileSummary(source, []);
+      const reference = await serverImage(source, []);
+      await openHarness(page, mode);
+      const r = await show(page, source, [], summary);
+      expect(r).toEqual({ ok: true });
+      // Volume and mesh modes refine after their first display: wait until settled.
+      await page.waitForTimeout(mode === 'gpuRaycast' ? 200 : 3000);
+      const ref = await mask(page, reference);
+      const got = await layerMask(page);
+      expect(ref.length).toBe(SIZE * SIZE);
+      expect(got.length).toBe(SIZE * SIZE);
+      const score = iou(ref, got);
+      console.log(`${mode} ${name}: silhouette IoU ${score.toFixed(4)} (${ref.reduce((a, b) => a + b, 0)} reference pixels)`);
+      expect(score).toBeGreaterThanOrEqual(0.95);
+    });
+  }
+}
+
+test('a parameter change in mode 4a changes the image without compiling again', async ({ page }) => {
+  const source = `-- bounds: -1.2,-1.2,-1.2,1.2,1.2,1.2
+my_model(x[3], a[1])
+{
+  my_model = a[1] * a[1] - x[1] * x[1] - x[2] * x[2] - x[3] * x[3];
+}
+`;
+  const summary = await compileSummary(source, [0.5]);
+  await openHarness(page, 'gpuRaycast');
+  expect(await show(page, source, [0.5], summary)).toEqual({ ok: true });
+  const before = await layerMask(page);
+  const stats = await page.evaluate(() => (window as any).frepClient.stats());
+  expect(stats.compilations).toBe('1');
+  const framesBefore: number = await page.evaluate(() => (window as any).frepClient.frames());
+  await page.evaluate(([s, sum]) => (window as any).frepClient.setParams(s, [0.9], sum), [source, summary] as const);
+  await expect.poll(() => page.evaluate(() => (window as any).frepClient.frames())).toBeGreaterThan(framesBefore);
+  const after = await layerMask(page);
+  const area = (m: number[]) => m.reduce((a, b) => a + b, 0);
+  // A bigger sphere: more of the image, and no new compilation.
+  expect(area(after)).toBeGreaterThan(area(before) * 2);
+  const later = await page.evaluate(() => (window as any).frepClient.stats());
+  expect(later.compilations).toBe('1');
+});
+
+test('a model too large for a browser shader is refused early with its reason', async ({ page }) => {
+  // 1,584 spheres on a 12 x 12 x 11 lattice (m2_spheres100's pattern).
+  const source = `-- bounds: -1,-1,-1,1,1,1
+my_model(x[3], a[1])
+{
+  f = -1000;
+  ia = 0;
+  while ia < 12 loop
+    ib = 0;
+    while ib < 12 loop
+      ic = 0;
+      while ic < 11 loop
+        dx = x[1] - (-0.88 + 0.16 * ia);
+        dy = x[2] - (-0.88 + 0.16 * ib);
+        dz = x[3] - (-0.8 + 0.16 * ic);
+        f = max(f, 0.07 - sqrt(dx * dx + dy * dy + dz * dz));
+        ic = ic + 1;
+      endloop;
+      ib = ib + 1;
+    endloop;
+    ia = ia + 1;
+  endloop;
+  my_model = f;
+}
+`;
+  const summary = await compileSummary(source, []);
+  expect(summary.shaderStatements).toBeGreaterThan(6000);
+  await openHarness(page, 'gpuRaycast');
+  const r = await show(page, source, [], summary);
+  expect(r.ok).toBe(false);
+  expect(r.name).toBe('RaycastRefused');
+  expect(r.error).toMatch(/statements.*1,000 primitives/);
+  const stats = await page.evaluate(() => (window as any).frepClient.stats());
+  expect(stats.status).toBe('refused');
+  expect(stats.compilations).toBe('0');
+  expect(await page.evaluate(() => (window as any).frepClient.failures())).toEqual([r.error]);
+});
