@@ -217,6 +217,7 @@ class AdaptiveViewer implements Viewer {
   }
 
   private decided(d: Decision): void {
+    this.root.dataset.decision = d.mode;
     const next = this.override ?? d.mode;
     this.updateBadge();
     if (next !== this.wanted || next !== this.current?.view.mode) {

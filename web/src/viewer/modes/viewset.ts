@@ -138,6 +138,8 @@ class ViewSetView implements ModeView {
     g.clearRect(0, 0, w, h);
     g.drawImage(sheet, r.x, r.y, r.w, r.h, 0.5 * (w - dw) - shift[0], 0.5 * (h - dh) + shift[1], dw, dh);
     this.canvas.dataset.view = String(pick.index);
+    this.canvas.dataset.yaw = String(layout.startYaw + (360 * pick.view) / Math.max(1, layout.viewsPerRing));
+    this.canvas.dataset.pitch = String(layout.elevations[pick.ring]);
     this.ctx.frame();
   }
 
