@@ -1,0 +1,44 @@
+//! Schema migrations: the numbered SQL files of `migrations/`, embedded.
+//!
+//! Algorithm: in one `IMMEDIATE` transaction (so two processes opening the
+//! same new file cannot both migrate), read `PRAGMA user_version`; refuse a
+//! database newer than the newest migration here; run every migration
+//! numbered above it, in order, and set `user_version` to the last one. The
+//! pragma lives in the database header, which is part of the transaction:
+//! either every pending migration is applied and recorded, or none is.
+
+use rusqlite::{Connection, TransactionBehavior};
+
+use crate::error::{Result, StoreError};
+
+/// Every migration: its number (= the schema version after it) and SQL.
+pub(crate) const MIGRATIONS: &[(u32, &str)] =
+    &[(1, include_str!("../../migrations/0001_init.sql"))];
+
+/// The schema version this code writes.
+pub(crate) fn latest() -> u32 {
+    MIGRATIONS.last().map_or(0, |m| m.0)
+}
+
+/// Brings the database up to [`latest`]; returns the numbers applied now
+/// (empty when it already was).
+pub(crate) fn migrate(conn: &mut Connection) -> Result<Vec<u32>> {
+    let tx = conn.transaction_with_behavior(TransactionBehavior::Immediate)?;
+    let found: i64 = tx.query_row("PRAGMA user_version", [], |r| r.get(0))?;
+    let known = i64::from(latest());
+    if found > known {
+        return Err(StoreError::SchemaTooNew { found, known });
+    }
+    let mut applied = Vec::new();
+    for &(number, sql) in MIGRATIONS {
+        if i64::from(number) <= found {
+            continue;
+        }
+        tx.execute_batch(sql)?;
+        // Pragmas take no bound parameters; the number is our own constant.
+        tx.execute_batch(&format!("PRAGMA user_version = {number}"))?;
+        applied.push(number);
+    }
+    tx.commit()?;
+    Ok(applied)
+}
