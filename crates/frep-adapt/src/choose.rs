@@ -25,8 +25,9 @@
 use frep_wire::{ImageEncoding, Mode, ModeSettings};
 use serde::Serialize;
 
+use crate::client::Limits;
 use crate::correction::{mode_index, Corrections};
-use crate::predict::{predict, Inputs, Limits, Prediction};
+use crate::predict::{predict, Inputs, Prediction};
 
 /// Cost of an infeasible mode (finite so that it serializes as JSON).
 pub const INFEASIBLE_COST: f64 = 1.0e9;

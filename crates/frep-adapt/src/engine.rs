@@ -26,252 +26,16 @@
 
 use std::collections::VecDeque;
 
-use frep_wire::{ClientReport, Decision, Mode, ModeSettings, NetworkEstimate};
-use serde::Serialize;
+use frep_wire::{ClientReport, Decision, Mode, NetworkEstimate};
 
-use crate::choose::{self, CostWeights, Scored};
-use crate::correction::{mode_index, CorrectionConfig, Corrections};
-use crate::predict::{ClientCaps, Inputs, Limits};
+use crate::choose::{self, Scored};
+use crate::client::ClientCaps;
+use crate::config::{ConfigError, EngineConfig};
+use crate::correction::{mode_index, Corrections};
+use crate::log::{InputSummary, LogEntry, Trigger};
+use crate::predict::Inputs;
 use crate::reason;
 use crate::stats::{ModelStats, ServerLoad, ServerSample};
-
-/// The engine's settings.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-#[serde(rename_all = "camelCase")]
-pub struct EngineConfig {
-    /// Limits of the modes.
-    pub limits: Limits,
-    /// Weights of the cost.
-    pub weights: CostWeights,
-    /// How corrections learn.
-    pub correction: CorrectionConfig,
-    /// Slow frames for this long, or a failing mode's better alternative
-    /// preferred this long, switches (ms).
-    pub downgrade_after_ms: u64,
-    /// A better alternative to a mode that is fine must be preferred this
-    /// long (ms).
-    pub upgrade_after_ms: u64,
-    /// The user must have been idle this long for an upgrade (ms).
-    pub idle_before_upgrade_ms: u64,
-    /// A switch needs the new mode's cost below `(1 − margin) ×` the
-    /// current's.
-    pub switch_margin: f64,
-    /// Settings are re-derived when bandwidth or round trip moved by more
-    /// than this factor from the ones the current settings rest on.
-    pub network_band: f64,
-    /// The same for the server's load factor.
-    pub load_band: f64,
-    /// Frame rates at or above this are capped by the display: they teach
-    /// nothing about the mode's cost.
-    pub vsync_fps: f64,
-    /// Decision log entries kept (oldest dropped first).
-    pub log_capacity: usize,
-}
-
-impl Default for EngineConfig {
-    fn default() -> Self {
-        EngineConfig {
-            limits: Limits::default(),
-            weights: CostWeights::default(),
-            correction: CorrectionConfig::default(),
-            downgrade_after_ms: 2_000,
-            upgrade_after_ms: 10_000,
-            idle_before_upgrade_ms: 1_500,
-            switch_margin: 0.15,
-            network_band: 1.5,
-            load_band: 1.5,
-            vsync_fps: 55.0,
-            log_capacity: 256,
-        }
-    }
-}
-
-/// A configuration the engine cannot work with.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum ConfigError {
-    /// A field out of its range.
-    #[error("engine config: {field} {why}")]
-    Invalid {
-        /// The field.
-        field: &'static str,
-        /// What is wrong with it.
-        why: String,
-    },
-}
-
-fn check(ok: bool, field: &'static str, why: &str) -> Result<(), ConfigError> {
-    if ok {
-        Ok(())
-    } else {
-        Err(ConfigError::Invalid {
-            field,
-            why: why.to_string(),
-        })
-    }
-}
-
-impl EngineConfig {
-    /// Checks every field's range.
-    pub fn validate(&self) -> Result<(), ConfigError> {
-        let c = self;
-        check(
-            (0.0..1.0).contains(&c.switch_margin),
-            "switchMargin",
-            "must be in [0, 1)",
-        )?;
-        check(c.network_band >= 1.0, "networkBand", "must be ≥ 1")?;
-        check(c.load_band >= 1.0, "loadBand", "must be ≥ 1")?;
-        check(c.vsync_fps > 0.0, "vsyncFps", "must be > 0")?;
-        check(c.log_capacity >= 1, "logCapacity", "must be ≥ 1")?;
-        let a = c.correction.alpha;
-        check(a > 0.0 && a <= 1.0, "correction.alpha", "must be in (0, 1]")?;
-        check(
-            c.correction.max_ratio >= 1.0,
-            "correction.maxRatio",
-            "must be ≥ 1",
-        )?;
-        check(
-            c.correction.max_factor >= 1.0,
-            "correction.maxFactor",
-            "must be ≥ 1",
-        )?;
-        let w = &c.weights;
-        let weights = [
-            w.first,
-            w.orbit,
-            w.edit,
-            w.slow_orbit,
-            w.patience_ms,
-            w.slow_first,
-            w.per_quality_point,
-            w.per_undersize,
-            w.per_mesh_level,
-        ];
-        let all = weights.iter().chain(w.mode_penalty.iter());
-        check(
-            all.into_iter().all(|v| v.is_finite() && *v >= 0.0),
-            "weights",
-            "must be finite and ≥ 0",
-        )?;
-        check(w.min_orbit_fps > 0.0, "weights.minOrbitFps", "must be > 0")?;
-        let l = &c.limits;
-        for (field, (least, most)) in [
-            ("limits.serverMeshDepths", l.server_mesh_depths),
-            ("limits.wasmMeshDepths", l.wasm_mesh_depths),
-        ] {
-            check(
-                least >= 1 && least <= most && most <= 12,
-                field,
-                "must be 1 ≤ least ≤ most ≤ 12",
-            )?;
-        }
-        check(
-            l.max_image_side >= 16,
-            "limits.maxImageSide",
-            "must be ≥ 16",
-        )?;
-        check(
-            l.max_pixel_ratio >= 1.0,
-            "limits.maxPixelRatio",
-            "must be ≥ 1",
-        )?;
-        check(
-            l.min_volume_grid >= 8,
-            "limits.minVolumeGrid",
-            "must be ≥ 8",
-        )?;
-        Ok(())
-    }
-}
-
-/// What caused an evaluation.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "camelCase")]
-pub enum Trigger {
-    /// The session started.
-    Connect,
-    /// A new network estimate or a server measurement of an artefact.
-    Measurement,
-    /// A new client report.
-    Report,
-    /// The model changed.
-    Edit,
-    /// The client's frames stayed under the target rate.
-    SlowFrames,
-    /// A frame rate report (fine or not yet long enough to act on).
-    FrameRate,
-    /// The client reported a displayed time.
-    Displayed,
-    /// The user's override.
-    Override,
-    /// The server's load changed.
-    Load,
-    /// A periodic re-evaluation.
-    Periodic,
-}
-
-impl Trigger {
-    /// The wire name (`Decision::trigger`).
-    pub fn as_str(self) -> &'static str {
-        match self {
-            Trigger::Connect => "connect",
-            Trigger::Measurement => "measurement",
-            Trigger::Report => "report",
-            Trigger::Edit => "edit",
-            Trigger::SlowFrames => "slowFrames",
-            Trigger::FrameRate => "frameRate",
-            Trigger::Displayed => "displayed",
-            Trigger::Override => "override",
-            Trigger::Load => "load",
-            Trigger::Periodic => "periodic",
-        }
-    }
-}
-
-/// The inputs of an evaluation, in short.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-#[serde(rename_all = "camelCase")]
-pub struct InputSummary {
-    /// The network.
-    pub network: NetworkEstimate,
-    /// The client as the engine sees it.
-    pub caps: ClientCaps,
-    /// Tape operations.
-    pub tape_len: u32,
-    /// Shader statements.
-    pub statements: u32,
-    /// Primitives (estimated or counted).
-    pub primitives: u32,
-    /// Closed form on the server.
-    pub closed_form: bool,
-    /// The server's load.
-    pub load: ServerLoad,
-    /// The user's override.
-    pub override_mode: Option<Mode>,
-}
-
-/// One evaluation in the decision log.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-#[serde(rename_all = "camelCase")]
-pub struct LogEntry {
-    /// When (the caller's ms).
-    pub at_ms: u64,
-    /// What caused it.
-    pub trigger: Trigger,
-    /// The inputs.
-    pub inputs: InputSummary,
-    /// Every mode's prediction and cost.
-    pub predictions: Vec<frep_wire::ModePrediction>,
-    /// The cheapest feasible mode.
-    pub best: Mode,
-    /// The mode in use after it.
-    pub chosen: Mode,
-    /// The decision's sequence number when one was issued; `None` when
-    /// hysteresis held a change back.
-    pub issued: Option<u32>,
-    /// The reason (of the decision, or of holding back).
-    pub reason: String,
-}
 
 /// A preferred mode waiting for its hysteresis timer.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -291,7 +55,6 @@ struct Outcome {
 #[derive(Clone, Debug)]
 pub struct Engine {
     config: EngineConfig,
-    report: Option<ClientReport>,
     caps: Option<ClientCaps>,
     net: Option<NetworkEstimate>,
     stats: Option<ModelStats>,
@@ -320,7 +83,6 @@ impl Engine {
         Ok(Engine {
             corrections: Corrections::new(config.correction),
             config,
-            report: None,
             caps: None,
             net: None,
             stats: None,
@@ -348,20 +110,24 @@ impl Engine {
         stats: ModelStats,
         now_ms: u64,
     ) -> Decision {
-        self.set_report(report);
+        let caps = ClientCaps::from_report(&report, &self.config.limits);
+        let inputs = Inputs {
+            caps: &caps,
+            net: &net,
+            stats: &stats,
+            load: self.load,
+        };
+        let c = &self.config;
+        let scored = choose::evaluate(&inputs, &c.limits, &c.weights, &self.corrections);
+        self.caps = Some(caps);
         self.net = Some(net);
         self.stats = Some(stats);
         self.connected = true;
         self.current = None;
         self.pending = None;
         self.slow_since = None;
-        let decided = self.evaluate(Trigger::Connect, now_ms);
-        // Connected with all inputs, an evaluation always issues; the
-        // current decision is the fallback should that ever change.
-        match decided.or_else(|| self.current.clone()) {
-            Some(d) => d,
-            None => unreachable_decision(),
-        }
+        let (outcome, best) = self.plan(Trigger::Connect, &scored, now_ms);
+        self.commit(Trigger::Connect, now_ms, &scored, best, &outcome)
     }
 
     /// A new network estimate (pings, probes, payload throughput).
@@ -506,7 +272,6 @@ impl Engine {
 
     fn set_report(&mut self, report: ClientReport) {
         self.caps = Some(ClientCaps::from_report(&report, &self.config.limits));
-        self.report = Some(report);
     }
 
     /// Re-evaluates every mode and decides whether to issue a decision.
@@ -515,25 +280,76 @@ impl Engine {
             return None;
         }
         let scored = self.predictions()?;
+        let (outcome, best) = self.plan(trigger, &scored, now_ms);
+        if outcome.issue || self.settings_changed(trigger, &scored[outcome.target]) {
+            Some(self.commit(trigger, now_ms, &scored, best, &outcome))
+        } else {
+            self.record(trigger, now_ms, &scored, best, &outcome, None);
+            None
+        }
+    }
+
+    /// Keeps the uncorrected figures for learning, and plans the target:
+    /// the outcome and the index of the best mode.
+    fn plan(&mut self, trigger: Trigger, scored: &[Scored], now_ms: u64) -> (Outcome, usize) {
         for (i, s) in scored.iter().enumerate() {
             self.raw[i] = (s.prediction.raw_first_display_ms, s.prediction.raw_orbit_ms);
         }
-        let best = choose::best(&scored);
-        let outcome = self.hysteresis(trigger, &scored, best, now_ms);
-        let settings_changed = self.settings_changed(trigger, &scored[outcome.target]);
-        let issue = outcome.issue || settings_changed;
+        let best = choose::best(scored);
+        let outcome = match self.override_outcome(trigger, scored, best) {
+            Some(o) => o,
+            None => self.hysteresis(trigger, scored, best, now_ms),
+        };
+        (outcome, best)
+    }
+
+    /// Issues, logs and returns a decision for the planned target.
+    fn commit(
+        &mut self,
+        trigger: Trigger,
+        now_ms: u64,
+        scored: &[Scored],
+        best: usize,
+        outcome: &Outcome,
+    ) -> Decision {
         let before = self.current.as_ref().map(|d| d.mode);
-        let decision = issue.then(|| self.issue(trigger, &scored, &outcome));
-        self.record(trigger, now_ms, &scored, best, &outcome, decision.as_ref());
-        if let Some(d) = &decision {
-            // New settings or a new mode need new frame-rate measurements;
-            // a preferred mode keeps waiting unless the mode changed.
-            self.slow_since = None;
-            if before != Some(d.mode) {
-                self.pending = None;
-            }
+        let d = self.issue(trigger, scored, outcome);
+        self.record(trigger, now_ms, scored, best, outcome, Some(&d));
+        // New settings or a new mode need new frame-rate measurements; a
+        // preferred mode keeps waiting unless the mode changed.
+        self.slow_since = None;
+        if before != Some(d.mode) {
+            self.pending = None;
         }
-        decision
+        d
+    }
+
+    /// The outcome under an override (`None`: automatic). An override the
+    /// client cannot show falls back to the best mode, saying why.
+    fn override_outcome(
+        &self,
+        trigger: Trigger,
+        scored: &[Scored],
+        best: usize,
+    ) -> Option<Outcome> {
+        let m = self.override_mode?;
+        let forced = matches!(trigger, Trigger::Connect | Trigger::Override);
+        let i = mode_index(m);
+        Some(match &scored[i].prediction.refusal {
+            None => Outcome {
+                target: i,
+                issue: forced || self.mode_differs(i),
+                note: Some(format!("your choice: {}", reason::mode_name(m))),
+            },
+            Some(r) => Outcome {
+                target: best,
+                issue: forced || self.mode_differs(best),
+                note: Some(format!(
+                    "{} is not possible here ({r})",
+                    reason::mode_name(m)
+                )),
+            },
+        })
     }
 
     /// Which mode to use, and whether to issue even with the same settings.
@@ -545,29 +361,6 @@ impl Engine {
         now: u64,
     ) -> Outcome {
         let forced = matches!(trigger, Trigger::Connect | Trigger::Override);
-        if let Some(m) = self.override_mode {
-            let i = mode_index(m);
-            match &scored[i].prediction.refusal {
-                None => {
-                    return Outcome {
-                        target: i,
-                        issue: forced || self.mode_differs(i),
-                        note: Some(format!("your choice: {}", reason::mode_name(m))),
-                    }
-                }
-                Some(r) => {
-                    let note = Some(format!(
-                        "{} is not possible here ({r})",
-                        reason::mode_name(m)
-                    ));
-                    return Outcome {
-                        target: best,
-                        issue: forced || self.mode_differs(best),
-                        note,
-                    };
-                }
-            }
-        }
         let Some(current) = self.current.as_ref().map(|d| mode_index(d.mode)) else {
             return Outcome {
                 target: best,
@@ -662,9 +455,7 @@ impl Engine {
         let Some(cur) = self.current.as_ref() else {
             return false;
         };
-        if cur.mode != target.prediction.mode
-            || same_settings(&cur.settings, &target.prediction.settings)
-        {
+        if cur.mode != target.prediction.mode || cur.settings == target.prediction.settings {
             return false;
         }
         match trigger {
@@ -794,16 +585,4 @@ impl Engine {
         }
         self.log.push_back(entry);
     }
-}
-
-/// Settings equal up to float noise.
-fn same_settings(a: &ModeSettings, b: &ModeSettings) -> bool {
-    a == b
-}
-
-/// `connect` evaluates with every input present, so it always issues; this
-/// is never reached.
-#[cold]
-fn unreachable_decision() -> Decision {
-    unreachable!("connect always issues a decision: all inputs are set before evaluating")
 }

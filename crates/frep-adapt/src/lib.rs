@@ -47,16 +47,22 @@
 #![warn(missing_docs)]
 
 pub mod choose;
+pub mod client;
+pub mod config;
 pub mod correction;
 pub mod engine;
+pub mod log;
 pub mod predict;
 pub mod reason;
 pub mod stats;
 
 pub use choose::{CostWeights, Scored};
+pub use client::{ClientCaps, Limits};
+pub use config::{ConfigError, EngineConfig};
 pub use correction::{CorrectionConfig, Corrections, Factor, ModeFactors};
-pub use engine::{ConfigError, Engine, EngineConfig, InputSummary, LogEntry, Trigger};
-pub use predict::{ClientCaps, Inputs, Limits, Prediction};
+pub use engine::Engine;
+pub use log::{InputSummary, LogEntry, Trigger};
+pub use predict::{Inputs, Prediction};
 pub use stats::{
     ImageSample, Measured, MeshSample, ModelStats, ServerLoad, ServerSample, VolumeSample,
 };
