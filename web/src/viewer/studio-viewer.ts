@@ -71,6 +71,7 @@ class AdaptiveViewer implements Viewer {
   private probing = false;
   private webgl = true;
   private lastInteract = 0;
+  private lastFpsReport = 0;
   private displays = 0;
 
   constructor(container: HTMLElement, private readonly opts: ViewerOptions) {
@@ -205,6 +206,8 @@ class AdaptiveViewer implements Viewer {
     s.on('progress', (k, f) => this.progress(k, f));
     s.on('state', (st) => (this.root.dataset.session = st));
     s.on('error', (m) => console.warn('session:', m));
+    // A mode forced at creation is the user's choice: the server must know it.
+    if (this.override) s.override(this.override);
     s.connect();
     // The report's WebGL facts also steer fallbacks here.
     void measureClient({ wasm: false }).then((r) => (this.webgl = r.webgl2));
@@ -235,7 +238,11 @@ class AdaptiveViewer implements Viewer {
       rttMs: d?.network.rttMs ?? null,
       fps: interacting && rate ? rate.fps : null,
     });
-    if (interacting && rate && this.current && (Math.floor(performance.now() / 1000) % 2 === 0)) this.session?.frameRate(this.current.view.mode, rate.fps, rate.frameMs);
+    const now = performance.now();
+    if (interacting && rate && this.current && now - this.lastFpsReport >= FPS_REPORT_MS) {
+      this.lastFpsReport = now;
+      this.session?.frameRate(this.current.view.mode, rate.fps, rate.frameMs);
+    }
   }
 
   private progress(key: string, f: number): void {

@@ -33,6 +33,8 @@ class StillView implements ModeView {
   private movingWanted = false;
   private stillTimer: ReturnType<typeof setTimeout> | null = null;
   private shownCamera: CameraView | null = null;
+  /** Whether the picture shown is a reduced (moving) one. */
+  private shownReduced = false;
 
   async mount(ctx: ModeContext): Promise<void> {
     this.ctx = ctx;
@@ -71,10 +73,12 @@ class StillView implements ModeView {
     }
     // The still of a resting camera comes over HTTP (cached by content), after a short calm.
     if (this.stillTimer) clearTimeout(this.stillTimer);
+    // With a session the server streams the resting frame itself; HTTP is the backstop.
+    const streamed = !!s && s.state === 'open';
     this.stillTimer = setTimeout(() => {
       this.stillTimer = null;
       if (!this.ctx.moving()) this.refreshStill();
-    }, moving ? 250 : 30);
+    }, moving ? 250 : streamed ? 400 : 30);
   }
 
   setParams(): void {}
@@ -97,7 +101,7 @@ class StillView implements ModeView {
   private refreshStill(): void {
     if (!this.model) return;
     const cam = this.ctx.camera();
-    if (this.shownCamera && sameCamera(cam, this.shownCamera) && !this.sizeChanged()) return;
+    if (this.shownCamera && !this.shownReduced && sameCamera(cam, this.shownCamera) && !this.sizeChanged()) return;
     this.stillAbort?.abort();
     const ac = new AbortController();
     this.stillAbort = ac;
@@ -146,7 +150,7 @@ class StillView implements ModeView {
       );
       const img = await decodeImage(got.blob);
       if (signal.aborted || this.model !== model) return null;
-      this.draw(img, camera);
+      this.draw(img, camera, moving);
       this.ctx.frame();
       return got.bytes;
     } catch (e) {
@@ -160,11 +164,13 @@ class StillView implements ModeView {
     if (!this.ctx.moving() && !sameCamera(f.header.camera, this.ctx.camera())) return false;
     const blob = new Blob([f.payload as BlobPart], { type: frameMime(f.header.format) });
     const img = await decodeImage(blob);
-    this.draw(img, f.header.camera);
+    // A full-size resting frame counts as the still; a moving frame does not.
+    const full = !f.header.moving && f.header.width >= this.canvas.width && f.header.height >= this.canvas.height;
+    this.draw(img, f.header.camera, !full);
     return true;
   }
 
-  private draw(img: Drawable, camera: CameraView): void {
+  private draw(img: Drawable, camera: CameraView, reduced: boolean): void {
     const { width, height, pixelRatio } = this.ctx.size();
     const w = this.pixels(width, pixelRatio, 1);
     const h = this.pixels(height, pixelRatio, 1);
@@ -179,6 +185,7 @@ class StillView implements ModeView {
     g.drawImage(img, 0, 0, w, h);
     if ('close' in img) img.close();
     this.shownCamera = camera;
+    this.shownReduced = reduced;
   }
 }
 
