@@ -59,7 +59,7 @@ unsafe fn bytes<'a>(ptr: *const u8, len: usize) -> &'a [u8] {
 /// Reads `n` f64 at `ptr`; `None` when misaligned.
 ///
 /// # Safety
-/// As [`bytes`] for `8 n` bytes.
+/// As `bytes` for `8 n` bytes.
 unsafe fn f64s<'a>(ptr: *const f64, n: usize) -> Option<&'a [f64]> {
     if ptr.is_null() || n == 0 {
         return Some(&[]);
@@ -131,7 +131,7 @@ pub extern "C" fn frep_result_len() -> usize {
 /// bad: then the result is a JSON `{"ok":false,"error":…}`).
 ///
 /// # Safety
-/// The buffers as in [`bytes`].
+/// The buffers as in the crate docs (from `frep_alloc`).
 #[no_mangle]
 pub unsafe extern "C" fn frep_compile(
     src: *const u8,
@@ -179,7 +179,7 @@ pub extern "C" fn frep_outputs(handle: u32) -> i32 {
 /// error. Returns `k`, or -1 (message in the result).
 ///
 /// # Safety
-/// The buffers as in [`bytes`], 8-aligned.
+/// The buffers as in the crate docs (from `frep_alloc`), 8-aligned.
 #[no_mangle]
 pub unsafe extern "C" fn frep_eval_points(
     handle: u32,
@@ -209,7 +209,7 @@ pub unsafe extern "C" fn frep_eval_points(
 /// result, -1 for a bad call.
 ///
 /// # Safety
-/// The parameter buffer as in [`bytes`], 8-aligned.
+/// The parameter buffer as in the crate docs (from `frep_alloc`), 8-aligned.
 #[no_mangle]
 pub unsafe extern "C" fn frep_eval_point(
     handle: u32,
@@ -240,7 +240,7 @@ pub unsafe extern "C" fn frep_eval_point(
 /// ([`crate::buffers`]) in the result, -1 with a message.
 ///
 /// # Safety
-/// The buffer as in [`bytes`].
+/// The buffer as in the crate docs (from `frep_alloc`).
 #[no_mangle]
 pub unsafe extern "C" fn frep_polygonize(handle: u32, opts: *const u8, opts_len: usize) -> i32 {
     // SAFETY: the caller's contract.
@@ -262,7 +262,7 @@ pub unsafe extern "C" fn frep_polygonize(handle: u32, opts: *const u8, opts_len:
 /// frep-wire's `ShaderArtefact` JSON in the result, -1 with a message.
 ///
 /// # Safety
-/// The buffer as in [`bytes`].
+/// The buffer as in the crate docs (from `frep_alloc`).
 #[no_mangle]
 pub unsafe extern "C" fn frep_shader(handle: u32, opts: *const u8, opts_len: usize) -> i32 {
     // SAFETY: the caller's contract.

@@ -66,10 +66,12 @@ class VolumeView implements ModeView {
   private vao: WebGLVertexArrayObject | null = null;
   private raf = 0;
   private dirty = false;
-  private fence: { sync: WebGLSync; start: number; scale: number; moving: boolean; fine: boolean } | null = null;
+  private fence: { sync: WebGLSync; start: number; scale: number; moving: boolean; generation: number } | null = null;
+  /** Bumped at each volume upload: a frame shows the volume of its generation. */
+  private generation = 0;
+  private firstFrame: { generation: number; resolve: () => void } | null = null;
   private lastFine = true;
   private request = 0;
-  private firstFrame: (() => void) | null = null;
   private disposed = false;
 
   constructor(private readonly opts: VolumeOptions = DEFAULT_VOLUME) {}
@@ -125,7 +127,8 @@ class VolumeView implements ModeView {
     if (!live()) throw new DOMException('superseded', 'AbortError');
     this.useVolume(v.layout, v.bytes);
     this.ctx.progress(`volume-${id}`, 1 / grids.length);
-    const drawn = new Promise<void>((r) => (this.firstFrame = r));
+    const generation = this.generation;
+    const drawn = new Promise<void>((resolve) => (this.firstFrame = { generation, resolve }));
     this.schedule();
     await drawn;
     this.ctx.displayed(v.bytes.byteLength);
@@ -136,6 +139,7 @@ class VolumeView implements ModeView {
     const [nx, ny, nz] = layout.dims as [number, number, number];
     this.upload(this.volume, nx, ny, nz, bytes, false);
     this.layout = layout;
+    this.generation++;
     this.ctx.container.dataset.grid = String(nx);
   }
 
@@ -211,10 +215,10 @@ class VolumeView implements ModeView {
       this.fence = null;
       this.resolution.record(performance.now() - f.start, f.scale, f.moving);
       this.ctx.frame();
-      if (this.firstFrame) {
+      if (this.firstFrame && f.generation >= this.firstFrame.generation) {
         const r = this.firstFrame;
         this.firstFrame = null;
-        r();
+        r.resolve();
       }
     }
     // Still again after a coarse frame: once more in full.
@@ -267,15 +271,14 @@ class VolumeView implements ModeView {
     gl.drawArrays(gl.TRIANGLES, 0, 3);
     const sync = gl.fenceSync(gl.SYNC_GPU_COMMANDS_COMPLETE, 0);
     gl.flush();
-    const fine = !moving && scale >= 1;
-    this.lastFine = fine;
-    if (sync) this.fence = { sync, start: performance.now(), scale, moving, fine };
+    this.lastFine = !moving && scale >= 1;
+    if (sync) this.fence = { sync, start: performance.now(), scale, moving, generation: this.generation };
   }
 
   dispose(): void {
     this.disposed = true;
     if (this.raf) cancelAnimationFrame(this.raf);
-    this.firstFrame?.();
+    this.firstFrame?.resolve();
     const gl = this.gl;
     if (gl) {
       if (this.fence) gl.deleteSync(this.fence.sync);
