@@ -12,7 +12,8 @@
  * editing the model never moves it.
  */
 import type { Api } from '../api/client';
-import { measureClient } from '../measure/capabilities';
+import { glFacts, measureClient } from '../measure/capabilities';
+import { runWasmBench } from '../measure/wasm-hook';
 import { FrameRateWindow } from '../measure/framerate';
 import { Session, sessionUrl } from '../session/session';
 import type { CameraView, CompileSummary, Decision, Mode } from '../wire';
@@ -117,6 +118,8 @@ class AdaptiveViewer implements Viewer {
     });
     this.resizeObs = typeof ResizeObserver !== 'undefined' ? new ResizeObserver(() => this.resized()) : null;
     this.resizeObs?.observe(this.root);
+    // WebGL's presence steers fallbacks.
+    this.webgl = glFacts().webgl2;
     this.session = opts.session === false ? null : this.connect();
     this.timers.push(setInterval(() => this.tick(), 1000));
     this.chrome.setProjection(this.cam.fov !== null);
@@ -201,7 +204,16 @@ class AdaptiveViewer implements Viewer {
   // ---- session and measurements ----
 
   private connect(): Session {
-    const s = new Session({ url: this.opts.sessionUrl ?? sessionUrl(), report: () => measureClient() });
+    // The hello goes out with the quick measurements; the WASM benchmark
+    // (which loads the kernel) follows as a report when it is done.
+    const report = async () => {
+      const r = await measureClient({ wasm: false });
+      void runWasmBench().then((meps) => {
+        if (meps !== null && s.state === 'open') s.report({ ...r, wasmBenchMeps: meps });
+      });
+      return r;
+    };
+    const s = new Session({ url: this.opts.sessionUrl ?? sessionUrl(), report });
     s.on('decision', (d) => this.decided(d));
     s.on('progress', (k, f) => this.progress(k, f));
     s.on('state', (st) => (this.root.dataset.session = st));
@@ -209,8 +221,6 @@ class AdaptiveViewer implements Viewer {
     // A mode forced at creation is the user's choice: the server must know it.
     if (this.override) s.override(this.override);
     s.connect();
-    // The report's WebGL facts also steer fallbacks here.
-    void measureClient({ wasm: false }).then((r) => (this.webgl = r.webgl2));
     this.timers.push(
       setInterval(() => {
         if (performance.now() - this.lastInteract > 10_000 && s.state === 'open') void measureClient().then((r) => s.report(r));
