@@ -102,6 +102,12 @@ pub fn cost(p: &Prediction, w: &CostWeights, limits: &Limits, inputs: &Inputs) -
     if !p.feasible() {
         return INFEASIBLE_COST;
     }
+    cost_if_feasible(p, w, limits, inputs)
+}
+
+/// The cost as if the mode were feasible (to choose the settings a refused
+/// mode is shown with).
+fn cost_if_feasible(p: &Prediction, w: &CostWeights, limits: &Limits, inputs: &Inputs) -> f64 {
     let frame_target = 1000.0 / w.min_orbit_fps.max(1.0);
     let c = w.first * p.first_display_ms
         + w.orbit * p.orbit_ms
@@ -290,17 +296,22 @@ pub fn best_of_mode(
     weights: &CostWeights,
     corrections: &Corrections,
 ) -> Scored {
-    let mut best: Option<Scored> = None;
+    // Settings are chosen as if the mode were feasible, so that a refused
+    // mode shows the figures it would have had.
+    let mut best: Option<(Prediction, f64)> = None;
     for settings in candidates(mode, inputs, limits) {
         let prediction = predict(mode, &settings, inputs, limits, corrections);
-        let cost = cost(&prediction, weights, limits, inputs);
+        let c = cost_if_feasible(&prediction, weights, limits, inputs);
         // Strictly cheaper only: ties keep the higher quality listed first.
-        if best.as_ref().is_none_or(|b| cost < b.cost) {
-            best = Some(Scored { prediction, cost });
+        if best.as_ref().is_none_or(|b| c < b.1) {
+            best = Some((prediction, c));
         }
     }
     match best {
-        Some(b) => b,
+        Some((prediction, _)) => {
+            let cost = cost(&prediction, weights, limits, inputs);
+            Scored { prediction, cost }
+        }
         // Every ladder above has at least one entry; base settings stand in
         // should one ever be empty.
         None => {

@@ -64,6 +64,9 @@ pub struct Engine {
     /// Uncorrected first-display and orbit ms of each mode at the last
     /// evaluation, for learning from reports.
     raw: [(f64, f64); 6],
+    /// The same for the decision in force, with its own settings (the
+    /// client reports on those).
+    current_raw: (f64, f64),
     /// What the current settings rest on.
     basis_net: Option<NetworkEstimate>,
     basis_load: f64,
@@ -90,6 +93,7 @@ impl Engine {
             connected: false,
             current: None,
             raw: [(0.0, 0.0); 6],
+            current_raw: (0.0, 0.0),
             basis_net: None,
             basis_load: 1.0,
             override_mode: None,
@@ -150,7 +154,7 @@ impl Engine {
         }
         self.last_activity_ms = Some(now_ms);
         if fps > 0.0 && fps < self.config.vsync_fps {
-            let raw = self.raw[mode_index(mode)].1;
+            let raw = self.raw_of(mode).1;
             self.corrections.observe_orbit(mode, 1000.0 / fps, raw);
         }
         let current = self.current.as_ref().map(|d| d.mode);
@@ -172,7 +176,7 @@ impl Engine {
     /// transferred `bytes`: the first-display prediction learns from it.
     pub fn displayed(&mut self, mode: Mode, ms: f64, bytes: u64, now_ms: u64) -> Option<Decision> {
         let _ = bytes; // The time already includes the transfer.
-        let raw = self.raw[mode_index(mode)].0;
+        let raw = self.raw_of(mode).0;
         self.corrections.observe_first_display(mode, ms, raw);
         self.evaluate(Trigger::Displayed, now_ms)
     }
@@ -270,6 +274,15 @@ impl Engine {
         ))
     }
 
+    /// Uncorrected (first display, orbit) ms of a mode: of the decision in
+    /// force for its mode, else of the last evaluation.
+    fn raw_of(&self, mode: Mode) -> (f64, f64) {
+        match &self.current {
+            Some(d) if d.mode == mode => self.current_raw,
+            _ => self.raw[mode_index(mode)],
+        }
+    }
+
     fn set_report(&mut self, report: ClientReport) {
         self.caps = Some(ClientCaps::from_report(&report, &self.config.limits));
     }
@@ -314,6 +327,8 @@ impl Engine {
     ) -> Decision {
         let before = self.current.as_ref().map(|d| d.mode);
         let d = self.issue(trigger, scored, outcome);
+        let p = &scored[outcome.target].prediction;
+        self.current_raw = (p.raw_first_display_ms, p.raw_orbit_ms);
         self.record(trigger, now_ms, scored, best, outcome, Some(&d));
         // New settings or a new mode need new frame-rate measurements; a
         // preferred mode keeps waiting unless the mode changed.

@@ -357,3 +357,81 @@ fn nonsense_measurements_do_not_break_decisions() {
         0
     );
 }
+
+#[test]
+fn a_report_without_webgl_leaves_a_gpu_mode_at_once() {
+    let mut e = engine();
+    assert_eq!(
+        e.connect(workstation(), lan(), model(80), 0).mode,
+        Mode::GpuRaycast
+    );
+    // The context was lost: the client reports again without WebGL2.
+    let mut lost = workstation();
+    lost.webgl2 = false;
+    let d = e.report(lost, 1_000).expect("4a is impossible now");
+    assert!(matches!(d.mode, Mode::Still | Mode::ViewSet));
+    assert_eq!(d.trigger, "report");
+    assert!(
+        d.reason
+            .contains("GPU ray casting no longer possible (no WebGL2)"),
+        "{}",
+        d.reason
+    );
+}
+
+#[test]
+fn server_measurements_replace_the_estimates() {
+    use frep_adapt::{MeshSample, ServerSample};
+    let report = workstation();
+    let mut e = engine();
+    e.connect(report.clone(), lan(), model(100), 0);
+    // The server mesh's settings as the engine chose them.
+    let all = e.predictions().expect("connected");
+    let settings = all[2].prediction.settings.clone();
+    assert_eq!(all[2].prediction.mode, Mode::ServerMesh);
+    let caps = ClientCaps::from_report(&report, &e.config().limits);
+    let mesh = |e: &Engine| {
+        let stats = e.stats().expect("connected").clone();
+        let inputs = Inputs {
+            caps: &caps,
+            net: &lan(),
+            stats: &stats,
+            load: ServerLoad::default(),
+        };
+        predict(
+            Mode::ServerMesh,
+            &settings,
+            &inputs,
+            &e.config().limits,
+            e.corrections(),
+        )
+    };
+    let before = mesh(&e);
+    // The server polygonized this model at depth 6: 10 ms per thousand
+    // triangles (five times the estimate) and 9 bytes per triangle.
+    e.server_measured(
+        ServerSample::Mesh(MeshSample {
+            depth: 6,
+            triangles: 20_000,
+            server_ms: 200.0,
+            bytes: 180_000,
+        }),
+        1_000,
+    );
+    assert_eq!(
+        e.stats().and_then(|s| s.measured.mesh).map(|m| m.depth),
+        Some(6)
+    );
+    let after = mesh(&e);
+    // 20 000 triangles at depth 6 is 4.9 per 4^depth: more triangles, and
+    // each costs more to make and to send.
+    let ratio = 20_000.0 / 4096.0 / 4.0;
+    let bytes = 9.0 * 20_000.0 * 4f64.powi(i32::from(settings.mesh_depth) - 6);
+    assert!(
+        (after.bytes - bytes).abs() < 1.0,
+        "{} vs {bytes}",
+        after.bytes
+    );
+    assert!(after.bytes > 2.0 * ratio * before.bytes * 0.99);
+    assert!(after.first_display_ms > 2.0 * before.first_display_ms);
+}
