@@ -253,7 +253,8 @@ impl Session {
             return None;
         }
         let stats = ModelStats::from_summary(self.opened.as_ref()?.compiled.summary());
-        self.decider.model(stats, self.prober.estimate(), self.now())
+        self.decider
+            .model(stats, self.prober.estimate(), self.now())
     }
 
     fn network(&mut self) -> Option<Decision> {
@@ -372,7 +373,13 @@ impl Session {
         };
         let ms = at.duration_since(f.sent).as_secs_f64() * 1e3;
         self.prober.frame_delivered(f.bytes, ms);
-        tracing::debug!(seq, latency_ms, delivery_ms = ms, bytes = f.bytes, "frame acknowledged");
+        tracing::debug!(
+            seq,
+            latency_ms,
+            delivery_ms = ms,
+            bytes = f.bytes,
+            "frame acknowledged"
+        );
     }
 
     fn cancel(&mut self, key: &str) {
@@ -465,7 +472,9 @@ impl Session {
     /// A committed change on the server.
     pub fn change(&mut self, change: &Change) {
         if let Some(m) = follow::on_change(change, self.opened.as_ref(), &self.user) {
-            if let (ServerMessage::ModelChanged { version, .. }, Some(o)) = (&m, self.opened.as_mut()) {
+            if let (ServerMessage::ModelChanged { version, .. }, Some(o)) =
+                (&m, self.opened.as_mut())
+            {
                 // Announced once; a later open sets the version it opens.
                 o.version = Some(*version);
             }

@@ -62,12 +62,7 @@ impl Decider {
 
     /// The model opened or edited: connects when the client said hello,
     /// else tells the engine the model changed.
-    pub fn model(
-        &mut self,
-        stats: ModelStats,
-        net: NetworkEstimate,
-        now: u64,
-    ) -> Option<Decision> {
+    pub fn model(&mut self, stats: ModelStats, net: NetworkEstimate, now: u64) -> Option<Decision> {
         if self.connected {
             let d = self.engine.model_changed(stats, now);
             return self.trace(d);

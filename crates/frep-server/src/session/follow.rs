@@ -36,7 +36,11 @@ pub fn on_change(change: &Change, opened: Option<&Opened>, user: &str) -> Option
 
 /// After a lag: the open model's latest version when it is newer than the
 /// open one.
-pub async fn catch_up(state: AppState, model_id: String, open: Option<u32>) -> Option<ServerMessage> {
+pub async fn catch_up(
+    state: AppState,
+    model_id: String,
+    open: Option<u32>,
+) -> Option<ServerMessage> {
     let latest = crate::versions::load_version(&state, model_id.clone(), None)
         .await
         .ok()?;
@@ -83,7 +87,10 @@ mod tests {
         };
         let o = Some(&opened);
         let m = on_change(&change(ChangeKind::Saved, Some(3), "bob"), o, "ann");
-        assert!(matches!(m, Some(ServerMessage::ModelChanged { version: 3, .. })));
+        assert!(matches!(
+            m,
+            Some(ServerMessage::ModelChanged { version: 3, .. })
+        ));
         assert!(on_change(&change(ChangeKind::Saved, Some(3), "ann"), o, "ann").is_none());
         assert!(on_change(&change(ChangeKind::Saved, Some(2), "bob"), o, "ann").is_none());
         assert!(on_change(&change(ChangeKind::Renamed, None, "bob"), o, "ann").is_none());

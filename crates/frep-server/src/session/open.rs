@@ -166,7 +166,12 @@ pub fn specs(decision: &Decision, camera: &CameraView) -> Vec<(&'static str, Art
                     },
                 ));
             }
-            v.push(("mesh", ArtefactSpec::Mesh { depth: s.mesh_depth }));
+            v.push((
+                "mesh",
+                ArtefactSpec::Mesh {
+                    depth: s.mesh_depth,
+                },
+            ));
             v
         }
         Mode::GpuRaycast => vec![("shader", ArtefactSpec::Shader)],
@@ -211,7 +216,10 @@ impl Pusher {
         opened: &Opened,
         camera: &CameraView,
         running: &[String],
-    ) -> (Vec<axum::extract::ws::Message>, Vec<(String, tokio::task::JoinHandle<()>)>) {
+    ) -> (
+        Vec<axum::extract::ws::Message>,
+        Vec<(String, tokio::task::JoinHandle<()>)>,
+    ) {
         let mut messages = Vec::new();
         let mut jobs = Vec::new();
         for (role, spec) in specs(decision, camera) {
@@ -378,9 +386,8 @@ pub fn sample(spec: &ArtefactSpec, body: &ArtefactBody) -> Option<ServerSample> 
 /// Triangles of a glb: the index count of its first mesh's primitives over
 /// three (read from the JSON chunk; meshopt compression keeps the counts).
 pub fn glb_triangles(glb: &[u8]) -> Option<u64> {
-    let word = |i: usize| -> Option<u32> {
-        Some(u32::from_le_bytes(glb.get(i..i + 4)?.try_into().ok()?))
-    };
+    let word =
+        |i: usize| -> Option<u32> { Some(u32::from_le_bytes(glb.get(i..i + 4)?.try_into().ok()?)) };
     if glb.get(0..4)? != b"glTF" || word(16)? != 0x4E4F_534A {
         return None;
     }

@@ -150,8 +150,8 @@ impl Prober {
         let since = now.duration_since(last);
         let periodic =
             self.config.reprobe_ms > 0 && since >= Duration::from_millis(self.config.reprobe_ms);
-        let asked = self.link_changed()
-            && since >= Duration::from_millis(self.config.reprobe_min_ms);
+        let asked =
+            self.link_changed() && since >= Duration::from_millis(self.config.reprobe_min_ms);
         periodic || asked
     }
 

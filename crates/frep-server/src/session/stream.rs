@@ -124,7 +124,11 @@ pub async fn run(
     let mut seq = 0u32;
     loop {
         // Wait for an ask not yet rendered.
-        while slot.borrow_and_update().as_ref().is_none_or(|a| a.gen == shown) {
+        while slot
+            .borrow_and_update()
+            .as_ref()
+            .is_none_or(|a| a.gen == shown)
+        {
             if slot.changed().await.is_err() {
                 return;
             }
@@ -262,13 +266,20 @@ mod tests {
         let l = ArtefactLimits::default();
         assert_eq!(frame_size(&ask(false, (0, 0)), &l, 16), (400, 300, 80));
         let (w, h, q) = frame_size(&ask(false, (800, 600)), &l, 16);
-        assert_eq!((w, h, q), (400, 300, 80), "scaled to the budget, aspect kept");
+        assert_eq!(
+            (w, h, q),
+            (400, 300, 80),
+            "scaled to the budget, aspect kept"
+        );
         assert_eq!(frame_size(&ask(true, (800, 600)), &l, 16), (200, 150, 50));
         assert_eq!(frame_size(&ask(false, (200, 100)), &l, 16), (200, 100, 80));
         let small = ArtefactLimits {
             max_image_side: 100,
             ..l
         };
-        assert_eq!(frame_size(&ask(false, (200, 100)), &small, 16), (100, 50, 80));
+        assert_eq!(
+            frame_size(&ask(false, (200, 100)), &small, 16),
+            (100, 50, 80)
+        );
     }
 }
