@@ -126,16 +126,18 @@ impl SqliteStore {
             Some(c) => c,
             None => open_reader(&readers.path, &self.limits)?,
         };
-        let value = {
-            let tx = conn.transaction()?;
-            f(&tx)?
-            // Dropping the read transaction rolls it back: nothing to keep.
-        };
+        // Dropping the read transaction ends it (a rollback: nothing to
+        // keep); the connection goes back to the pool even after an error
+        // such as NotFound, which followers polling a log meet often.
+        let value = conn
+            .transaction()
+            .map_err(StoreError::from)
+            .and_then(|tx| f(&tx));
         let mut idle = lock(&readers.idle);
         if idle.len() < self.limits.read_connections {
             idle.push(conn);
         }
-        Ok(value)
+        value
     }
 
     /// A read on the writer connection (in-memory databases).
