@@ -138,7 +138,9 @@ fn settings_penalty(
     let wanted = screen_side.min(f64::from(limits.max_image_side));
     let undersize = |wanted: f64| (wanted / side - 1.0).max(0.0) * w.per_undersize;
     match mode {
-        Mode::Still => quality + undersize(wanted),
+        // Orbit frames below the still's size blur while moving (trame
+        // sends them at 1/devicePixelRatio): a smaller penalty per step.
+        Mode::Still => quality + undersize(wanted) + (s.moving_scale - 1.0).max(0.0) * 20.0,
         Mode::ViewSet => {
             let rings = s.elevations.len().max(1) as f64;
             let sparse = (24.0 / f64::from(s.views.max(1)) - 1.0).max(0.0) * 40.0;
@@ -205,7 +207,7 @@ pub fn candidates(mode: Mode, inputs: &Inputs, limits: &Limits) -> Vec<ModeSetti
             for k in [1.0, 0.75, 0.5] {
                 for q in [85u8, 75, 60, 50, 40] {
                     let (width, height) = scale((base.width, base.height), k);
-                    for moving_scale in [2.0, 3.0, 4.0] {
+                    for moving_scale in [2.0, 3.0] {
                         out.push(ModeSettings {
                             width,
                             height,
