@@ -6,7 +6,8 @@
 //! environment and no flags give a working local studio.
 //!
 //! The file is the [`Config`] itself in JSON, snake_case keys, every key
-//! optional, e.g. `{"addr": "0.0.0.0:8080", "limits": {"source_bytes": 65536}}`.
+//! optional, e.g. `{"addr": "0.0.0.0:8080", "limits": {"source_bytes": 65536}}`;
+//! the sessions' limits and timers are under `session`.
 //! The environment names are `FREP_ADDR`, `FREP_DATA`, `FREP_OPEN_ACCESS`,
 //! `FREP_STATIC_DIR`, `FREP_SHUTDOWN_GRACE_MS` and one `FREP_LIMIT_<NAME>`
 //! per limit (`FREP_LIMIT_SOURCE_BYTES`, …). The limits' names are also what
@@ -44,6 +45,8 @@ pub struct Config {
     pub shutdown_grace_ms: u64,
     /// Every resource limit.
     pub limits: Limits,
+    /// Limits and timers of the WebSocket sessions.
+    pub session: crate::session::SessionConfig,
 }
 
 impl Default for Config {
@@ -55,6 +58,7 @@ impl Default for Config {
             static_dir: Some(PathBuf::from("web/dist")),
             shutdown_grace_ms: 5_000,
             limits: Limits::default(),
+            session: crate::session::SessionConfig::default(),
         }
     }
 }

@@ -76,8 +76,15 @@ pub fn seed(store: &dyn Store, data_dir: &Path) -> Result<usize, SeedError> {
                 params: Vec::new(),
                 message: "example".to_string(),
             };
-            store.create_model(EXAMPLES_OWNER, req)?;
-            created += 1;
+            match store.create_model(EXAMPLES_OWNER, req) {
+                Ok(_) => created += 1,
+                // An example over a configured limit is left out, not a
+                // reason to refuse to start.
+                Err(e @ (StoreError::Limit { .. } | StoreError::Invalid(_))) => {
+                    tracing::warn!(example = name, "example not loaded: {e}");
+                }
+                Err(e) => return Err(e.into()),
+            }
         }
     }
     std::fs::write(

@@ -41,6 +41,7 @@ pub mod models;
 pub mod openapi;
 pub mod page;
 pub mod router;
+pub mod session;
 pub mod state;
 pub mod versions;
 

@@ -28,7 +28,7 @@ use tracing::Span;
 
 use crate::error::AppError;
 use crate::state::AppState;
-use crate::{artefacts, assets, compile, models, openapi, page, versions};
+use crate::{artefacts, assets, compile, models, openapi, page, session, versions};
 
 /// The whole application.
 pub fn router(state: AppState) -> Router {
@@ -60,6 +60,7 @@ pub fn router(state: AppState) -> Router {
         .route("/api/assets/{hash}", get(assets::get))
         .route("/api/openapi.json", get(openapi::document))
         .route("/api/health", get(health))
+        .route("/api/session", get(session::handler))
         .route("/api/{*rest}", axum::routing::any(api_not_found));
     let app = match state.config.studio_dir() {
         Some(dir) => {

@@ -1,0 +1,132 @@
+//! The server's life: examples seeded once, committed writes surviving a
+//! restart, the HTML page without a studio, the studio when built.
+
+mod harness;
+
+use frep_wire::{ModelDetail, ModelSummary, SaveVersion, Version};
+use harness::{config, Server, SPHERE};
+use reqwest::StatusCode;
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn committed_saves_survive_a_restart_and_examples_are_seeded_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let s = Server::start(config(dir.path())).await;
+    let list: Vec<ModelSummary> = s.get_json("/api/models").await;
+    let examples = frep_server::examples::EXAMPLES;
+    assert_eq!(list.len(), examples.len());
+    assert!(list.iter().all(|m| m.owner == "examples"));
+    let sake = list.iter().find(|m| m.name == "sake_pot").unwrap();
+    let detail: ModelDetail = s.get_json(&format!("/api/models/{}", sake.id)).await;
+    assert!(detail.version.source.contains("sake"));
+
+    let id = s.create("kept", SPHERE).await.model.id;
+    let v2: Version = s
+        .post_json(
+            &format!("/api/models/{id}/versions"),
+            &SaveVersion {
+                source: "-- saved before the restart\n".into(),
+                params: vec![0.5],
+                message: "v2".into(),
+                base: Some(1),
+                assets: vec![],
+            },
+        )
+        .await;
+    assert_eq!(v2.number, 2);
+    s.stop().await;
+
+    let s = Server::start(config(dir.path())).await;
+    let list: Vec<ModelSummary> = s.get_json("/api/models").await;
+    assert_eq!(list.len(), examples.len() + 1, "examples not seeded twice");
+    let back: ModelDetail = s.get_json(&format!("/api/models/{id}")).await;
+    assert_eq!(back.version.number, 2);
+    assert_eq!(back.version.source, "-- saved before the restart\n");
+    assert_eq!(back.version.params, [0.5]);
+
+    // Deleted examples stay deleted across a restart.
+    let r = s
+        .client
+        .delete(s.url(&format!("/api/models/{}", sake.id)))
+        .send()
+        .await
+        .unwrap();
+    assert_eq!(r.status(), StatusCode::NO_CONTENT);
+    s.stop().await;
+    let s = Server::start(config(dir.path())).await;
+    let list: Vec<ModelSummary> = s.get_json("/api/models").await;
+    assert_eq!(list.len(), examples.len());
+    assert!(!list.iter().any(|m| m.name == "sake_pot"));
+    s.stop().await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn without_a_studio_the_page_lists_models_with_images_and_downloads() {
+    let dir = tempfile::tempdir().unwrap();
+    let s = Server::start(config(&dir.path().join("data"))).await;
+    s.create("a <b> & c", SPHERE).await;
+    let r = s.client.get(s.url("/")).send().await.unwrap();
+    assert_eq!(r.status(), StatusCode::OK);
+    assert!(r.headers()["content-type"]
+        .to_str()
+        .unwrap()
+        .starts_with("text/html"));
+    let html = r.text().await.unwrap();
+    assert!(html.contains("a &lt;b&gt; &amp; c"), "names are escaped");
+    for (name, _) in frep_server::examples::EXAMPLES {
+        assert!(html.contains(&format!("<h2>{name}</h2>")), "{name} listed");
+    }
+    // Every image and download link is a registered artefact URL.
+    let links: Vec<&str> = html
+        .split("\"/api/artefacts/")
+        .skip(1)
+        .map(|rest| &rest[..rest.find('"').unwrap()])
+        .collect();
+    let imgs = links.iter().filter(|l| l.ends_with(".jpg")).count();
+    assert_eq!(imgs, frep_server::examples::EXAMPLES.len() + 1);
+    for ext in [".stl?", ".obj?", ".ply?", ".glb?", ".3mf?"] {
+        assert!(links.iter().any(|l| l.contains(ext)), "{ext} download");
+    }
+    // The test sphere's image is real: fetch it.
+    let sphere_img = html
+        .split("<article>")
+        .find(|a| a.contains("a &lt;b&gt; &amp; c"))
+        .and_then(|a| a.split("src=\"").nth(1))
+        .map(|rest| rest[..rest.find('"').unwrap()].to_string())
+        .unwrap();
+    let r = s.client.get(s.url(&sphere_img)).send().await.unwrap();
+    assert_eq!(r.status(), StatusCode::OK);
+    let jpeg = r.bytes().await.unwrap();
+    assert_eq!(&jpeg[..2], &[0xFF, 0xD8], "JPEG start of image");
+    let r = s.client.get(s.url("/nothing-here")).send().await.unwrap();
+    assert_eq!(r.status(), StatusCode::NOT_FOUND);
+    s.stop().await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_built_studio_is_served_with_an_index_fallback() {
+    let dir = tempfile::tempdir().unwrap();
+    let studio = dir.path().join("dist");
+    std::fs::create_dir_all(studio.join("assets")).unwrap();
+    std::fs::write(
+        studio.join("index.html"),
+        "<!doctype html><title>studio</title>",
+    )
+    .unwrap();
+    std::fs::write(studio.join("assets/app.js"), "console.log('frep');").unwrap();
+    let mut c = config(&dir.path().join("data"));
+    c.static_dir = Some(studio);
+    let s = Server::start(c).await;
+    let get = |p: &str| s.client.get(s.url(p)).send();
+    let r = get("/").await.unwrap();
+    assert!(r.text().await.unwrap().contains("<title>studio</title>"));
+    let r = get("/assets/app.js").await.unwrap();
+    assert_eq!(r.text().await.unwrap(), "console.log('frep');");
+    // A client-side route gets the studio's page.
+    let r = get("/models/abc").await.unwrap();
+    assert!(r.text().await.unwrap().contains("<title>studio</title>"));
+    // The API stays the API.
+    let r = get("/api/nothing").await.unwrap();
+    assert_eq!(r.status(), StatusCode::NOT_FOUND);
+    assert!(r.text().await.unwrap().contains("not_found"));
+    s.stop().await;
+}
