@@ -6,6 +6,7 @@ mod format;
 mod glsl;
 mod mesh;
 mod render;
+mod serve;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -74,6 +75,10 @@ enum Command {
     Render(render::RenderArgs),
     /// Sample a model on a grid: a PNG slice stack and an 8-bit 3D texture.
     Slices(render::SlicesArgs),
+    /// Start the web server: the HTTP API, sessions and the studio, with
+    /// the models in a SQLite database under --data (the examples loaded
+    /// on first start).
+    Serve(serve::ServeArgs),
 }
 
 /// Reads and compiles a model; a model error is printed with its source line
@@ -109,6 +114,7 @@ fn main() -> ExitCode {
         Command::Render(args) => render::render(args),
         Command::Slices(args) => render::slices(args),
         Command::Mesh(options) => mesh::run(options),
+        Command::Serve(args) => serve::run(args),
     };
     match result {
         Ok(code) => code,
