@@ -348,7 +348,7 @@ class AdaptiveViewer implements Viewer {
     const notes: string[] = [];
     while (target && !ac.signal.aborted) {
       try {
-        const layer = await this.layerFor(target);
+        const layer = await this.layerFor(target, ac.signal);
         const model: ModeModel = {
           show,
           summary,
@@ -385,7 +385,7 @@ class AdaptiveViewer implements Viewer {
   }
 
   /** The layer showing `mode`: the current one, or a new one beneath it. */
-  private async layerFor(mode: Mode): Promise<Layer> {
+  private async layerFor(mode: Mode, signal: AbortSignal): Promise<Layer> {
     if (this.current?.view.mode === mode) {
       this.dropPending();
       return this.current;
@@ -394,6 +394,9 @@ class AdaptiveViewer implements Viewer {
     this.dropPending();
     const view = await createModeView(mode);
     if (!view) throw new Error('not available in this build');
+    // A newer request may have come meanwhile: it makes its own layer.
+    if (signal.aborted) throw new DOMException('superseded', 'AbortError');
+    this.dropPending();
     const el = document.createElement('div');
     el.className = 'frep-layer';
     el.dataset.mode = mode;
