@@ -81,6 +81,8 @@ pub struct ClientCaps {
     pub wasm_meps: Option<f64>,
     /// JS speed relative to the reference desktop (2: twice as slow).
     pub cpu_scale: f64,
+    /// Whether `cpu_scale` was measured (not guessed).
+    pub cpu_measured: bool,
     /// Device pixels across (screen × capped pixel ratio).
     pub device_width: u32,
     /// Device pixels down.
@@ -135,7 +137,8 @@ impl ClientCaps {
             (true, Some(ms)) => ms,
             (true, None) => guess,
         };
-        let cpu_scale = positive(report.cpu_bench_ms)
+        let cpu_bench = positive(report.cpu_bench_ms);
+        let cpu_scale = cpu_bench
             .map(|ms| ms / CPU_BENCH_REFERENCE_MS)
             .unwrap_or(if report.mobile { 3.0 } else { 1.0 })
             .clamp(0.1, 100.0);
@@ -153,6 +156,7 @@ impl ClientCaps {
             gpu_measured: bench.is_some(),
             wasm_meps: positive(report.wasm_bench_meps),
             cpu_scale,
+            cpu_measured: cpu_bench.is_some(),
             device_width: side(report.screen.width),
             device_height: side(report.screen.height),
             mobile: report.mobile,
@@ -163,6 +167,13 @@ impl ClientCaps {
                 0
             },
         }
+    }
+
+    /// How many of the three benchmarks (GPU, WASM, JS) were measured.
+    pub fn measured_count(&self) -> u32 {
+        u32::from(self.gpu_measured)
+            + u32::from(self.wasm_meps.is_some())
+            + u32::from(self.cpu_measured)
     }
 
     /// Device pixels of the viewport.

@@ -33,7 +33,7 @@ use crate::client::ClientCaps;
 use crate::config::{ConfigError, EngineConfig};
 use crate::correction::{mode_index, Corrections};
 use crate::log::{InputSummary, LogEntry, Trigger};
-use crate::predict::Inputs;
+use crate::predict::{Inputs, Prediction};
 use crate::reason;
 use crate::stats::{ModelStats, ServerLoad, ServerSample};
 
@@ -74,6 +74,8 @@ pub struct Engine {
     pending: Option<Pending>,
     slow_since: Option<u64>,
     last_activity_ms: Option<u64>,
+    /// The report being evaluated replaced a guessed benchmark.
+    guess_replaced: bool,
     corrections: Corrections,
     log: VecDeque<LogEntry>,
     seq: u32,
@@ -100,6 +102,7 @@ impl Engine {
             pending: None,
             slow_since: None,
             last_activity_ms: None,
+            guess_replaced: false,
             log: VecDeque::new(),
             seq: 0,
         })
@@ -141,9 +144,16 @@ impl Engine {
     }
 
     /// A changed client report (benchmarks done, screen resized).
+    /// A report that brings a benchmark the engine had only guessed
+    /// re-decides at once: the first decision rested on the guess.
     pub fn report(&mut self, report: ClientReport, now_ms: u64) -> Option<Decision> {
+        let before = self.caps.as_ref().map_or(0, ClientCaps::measured_count);
         self.set_report(report);
-        self.evaluate(Trigger::Report, now_ms)
+        let after = self.caps.as_ref().map_or(0, ClientCaps::measured_count);
+        self.guess_replaced = after > before;
+        let d = self.evaluate(Trigger::Report, now_ms);
+        self.guess_replaced = false;
+        d
     }
 
     /// The frame rate the client achieved in `mode` while interacting.
@@ -412,7 +422,9 @@ impl Engine {
         }
         let frame_target = 1000.0 / self.config.weights.min_orbit_fps;
         let failing = cur.orbit_ms > frame_target || self.slow_since.is_some();
-        let immediate = trigger == Trigger::SlowFrames || (trigger == Trigger::Edit && failing);
+        let immediate = trigger == Trigger::SlowFrames
+            || (trigger == Trigger::Edit && failing)
+            || (trigger == Trigger::Report && self.guess_replaced);
         let since = match self.pending {
             Some(p) if p.mode == scored[best].prediction.mode => p.since_ms,
             _ => now,
@@ -431,30 +443,38 @@ impl Engine {
         if !go {
             return keep;
         }
-        let note = if trigger == Trigger::SlowFrames {
-            format!(
-                "frames stayed under {:.0} fps in {}",
-                self.config.weights.min_orbit_fps,
-                reason::mode_name(cur.mode)
-            )
-        } else if failing {
-            format!(
-                "{} misses {:.0} fps (≈ {:.0} fps)",
-                reason::mode_name(cur.mode),
-                self.config.weights.min_orbit_fps,
-                reason::fps(cur.orbit_ms)
-            )
-        } else {
-            format!(
-                "better than {} for {}",
-                reason::mode_name(cur.mode),
-                reason::duration_words(waited as f64)
-            )
-        };
+        let note = self.switch_note(trigger, cur, failing, waited);
         Outcome {
             target: best,
             issue: true,
             note: Some(note),
+        }
+    }
+
+    /// Why the engine leaves the current mode, in words.
+    fn switch_note(
+        &self,
+        trigger: Trigger,
+        cur: &Prediction,
+        failing: bool,
+        waited: u64,
+    ) -> String {
+        let name = reason::mode_name(cur.mode);
+        let fps = self.config.weights.min_orbit_fps;
+        if trigger == Trigger::SlowFrames {
+            format!("frames stayed under {fps:.0} fps in {name}")
+        } else if trigger == Trigger::Report && self.guess_replaced {
+            format!("measured benchmarks replace the guesses {name} rested on")
+        } else if failing {
+            format!(
+                "{name} misses {fps:.0} fps (≈ {:.0} fps)",
+                reason::fps(cur.orbit_ms)
+            )
+        } else {
+            format!(
+                "better than {name} for {}",
+                reason::duration_words(waited as f64)
+            )
         }
     }
 

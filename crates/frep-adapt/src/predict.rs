@@ -43,6 +43,16 @@
 //!   a [`REFERENCE_TAPE`]-op model) scales browser polygonizing at
 //!   [`WASM_EVALS_PER_TRIANGLE`] evaluations per triangle.
 //!
+//! ## Per mode
+//! | mode | first display | orbit frame | edit (parameter drag) |
+//! |---|---|---|---|
+//! | 1 still | rtt + server image + transfer + decode | rtt + reduced server frame + transfer + decode | as an orbit frame |
+//! | 2 view set | 2 rtt + every view on the server + transfer + decode | local (~1 ms, fixed views) | the whole set again |
+//! | 3 server mesh | 2 rtt + server mesh + transfer + decode + draw | draw | coarse mesh, fetched the same way |
+//! | 4a GPU ray casting | 2 rtt + model transfer + compile + frame | frame | one frame (parameters are uniforms) |
+//! | 4b WASM mesh | 2 rtt + model transfer + polygonize in WASM + upload + draw | draw | coarse mesh in WASM + draw |
+//! | volume | 2 rtt + server slices + transfer + texture upload + frame | frame | the volume again |
+//!
 //! Missing benchmarks are guessed ([`crate::ClientCaps::from_report`]): a guess
 //! is only a first estimate; the corrections learnt from the client's
 //! reports ([`crate::Corrections`]) multiply the predictions of each mode.
@@ -582,6 +592,12 @@ pub fn volume_frame_ms(caps: &ClientCaps, grid: u32, pixels: f64) -> f64 {
         + caps.gpu_ms * pixels / BENCH_PIXELS * VOLUME_MARCH_FACTOR * f64::from(grid) / 64.0
 }
 
+/// Client ms to decompress and upload a 3D texture of `cells` bytes
+/// (about a tenth of a mesh triangle's decode per cell).
+fn texture_upload_ms(caps: &ClientCaps, cells: f64) -> f64 {
+    MESH_DECODE_MS_PER_TRIANGLE * 0.1 * cells * caps.cpu_scale
+}
+
 /// Volume mode: slices from the server, ray marched on the client.
 fn volume(s: &ModeSettings, inputs: &Inputs) -> Raw {
     let grid = s.volume_grid.max(8);
@@ -591,7 +607,7 @@ fn volume(s: &ModeSettings, inputs: &Inputs) -> Raw {
     let work = 2.0 * inputs.rtt()
         + server_volume_ms(inputs, grid)
         + inputs.transfer_ms(bytes)
-        + mesh_decode_ms(inputs.caps, cells / 10.0);
+        + texture_upload_ms(inputs.caps, cells);
     Raw {
         first: work + frame,
         orbit: frame,

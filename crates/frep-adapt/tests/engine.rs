@@ -455,3 +455,26 @@ fn server_measurements_replace_the_estimates() {
     assert!(after.bytes > 2.0 * ratio * before.bytes * 0.99);
     assert!(after.first_display_ms > 2.0 * before.first_display_ms);
 }
+
+#[test]
+fn measured_benchmarks_replace_guesses_at_once() {
+    // Connected before the GPU benchmark ran: the engine guesses an
+    // ordinary desktop GPU (3 ms) and ray casting is not chosen.
+    let mut early = workstation();
+    early.gpu_bench_ms = None;
+    let mut e = engine();
+    let d0 = e.connect(early, lan(), model(80), 0);
+    assert_ne!(d0.mode, Mode::GpuRaycast, "{}", d0.reason);
+    // The benchmark says 0.3 ms: no ten-second wait for the upgrade.
+    let d = e.report(workstation(), 500).expect("re-decided");
+    assert_eq!(d.mode, Mode::GpuRaycast, "{}", d.reason);
+    assert_eq!(d.trigger, "report");
+    assert!(
+        d.reason
+            .starts_with("measured benchmarks replace the guesses"),
+        "{}",
+        d.reason
+    );
+    // The same report again changes nothing.
+    assert_eq!(e.report(workstation(), 1_000), None);
+}
