@@ -137,7 +137,10 @@ class StillView implements ModeView {
     if (!model) return null;
     const st = model.settings;
     const { width, height, pixelRatio } = this.ctx.size();
-    const scale = moving ? Math.max(1, st?.movingScale ?? 2) : 1;
+    // The decision's pixel budget (width × height) caps the still; moving frames are smaller again.
+    const budget = st && st.width > 0 && st.height > 0 ? st.width * st.height : Infinity;
+    const fit = Math.max(1, Math.sqrt((width * pixelRatio * height * pixelRatio) / budget));
+    const scale = fit * (moving ? Math.max(1, st?.movingScale ?? 2) : 1);
     const format: ImageEncoding = st?.format ?? 'jpeg';
     const quality = moving ? (st?.movingQuality ?? 50) : (st?.quality ?? 85);
     try {
@@ -165,7 +168,7 @@ class StillView implements ModeView {
     const blob = new Blob([f.payload as BlobPart], { type: frameMime(f.header.format) });
     const img = await decodeImage(blob);
     // A full-size resting frame counts as the still; a moving frame does not.
-    const full = !f.header.moving && f.header.width >= this.canvas.width && f.header.height >= this.canvas.height;
+    const full = !f.header.moving;
     this.draw(img, f.header.camera, !full);
     return true;
   }
