@@ -74,6 +74,8 @@ pub struct Engine {
     pending: Option<Pending>,
     slow_since: Option<u64>,
     last_activity_ms: Option<u64>,
+    /// The last hold logged: the preferred mode and since when.
+    last_held: Option<(Mode, Option<u64>)>,
     /// The report being evaluated replaced a guessed benchmark.
     guess_replaced: bool,
     corrections: Corrections,
@@ -103,6 +105,7 @@ impl Engine {
             slow_since: None,
             last_activity_ms: None,
             guess_replaced: false,
+            last_held: None,
             log: VecDeque::new(),
             seq: 0,
         })
@@ -573,8 +576,19 @@ impl Engine {
         outcome: &Outcome,
         decision: Option<&Decision>,
     ) {
-        if decision.is_none() && best == outcome.target {
-            return;
+        if decision.is_none() {
+            // A hold is logged when it starts or changes, not at every tick
+            // it lasts.
+            let held = (
+                scored[best].prediction.mode,
+                self.pending.map(|p| p.since_ms),
+            );
+            if best == outcome.target || self.last_held == Some(held) {
+                return;
+            }
+            self.last_held = Some(held);
+        } else {
+            self.last_held = None;
         }
         let (Some(caps), Some(net), Some(stats)) =
             (self.caps.clone(), self.net.clone(), self.stats.as_ref())

@@ -478,3 +478,24 @@ fn measured_benchmarks_replace_guesses_at_once() {
     // The same report again changes nothing.
     assert_eq!(e.report(workstation(), 1_000), None);
 }
+
+#[test]
+fn a_lasting_hold_is_logged_once() {
+    let mut heavy = model(18_000);
+    heavy.primitives = Some(1500);
+    let mut e = engine();
+    e.connect(workstation(), lan(), heavy, 0);
+    e.activity(0);
+    e.model_changed(model(80), 1_000);
+    // The user keeps dragging: the upgrade waits, tick after tick.
+    for t in (2_000..30_000).step_by(1_000) {
+        e.activity(t);
+        assert_eq!(e.tick(t + 500), None);
+    }
+    let holds: Vec<_> = e.log().filter(|l| l.issued.is_none()).collect();
+    assert_eq!(holds.len(), 1, "{holds:?}");
+    assert_eq!(holds[0].best, Mode::GpuRaycast);
+    assert!(holds[0]
+        .reason
+        .starts_with("held: GPU ray casting preferred since 1000 ms"));
+}
