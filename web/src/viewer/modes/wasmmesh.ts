@@ -11,7 +11,7 @@
  */
 import * as THREE from 'three';
 import type { CameraView, Mode } from '../../wire';
-import type { ModeContext, ModeModel, ModeView, SectionPlane } from '../types';
+import type { ModeContext, ModeModel, ModeView, ProbeResult, SectionPlane } from '../types';
 import { applyCamera, clippingPlane, createStage, type ThreeStage } from '../three-scene';
 import type { KernelClient, MeshPass } from '../../wasm/client';
 import type { KernelMesh } from '../../wasm/kernel';
@@ -58,7 +58,10 @@ class WasmMeshView implements ModeView {
   private canvas!: HTMLCanvasElement;
   private stage!: ThreeStage;
   private mesh: THREE.Mesh | null = null;
+  private capMesh: THREE.Mesh | null = null;
   private readonly material: THREE.MeshPhongMaterial;
+  private readonly cap: THREE.MeshBasicMaterial;
+  private section: SectionPlane | null = null;
   private bounds: number[] = [-1, -1, -1, 1, 1, 1];
   private kernel: KernelClient | null = null;
   private raf = 0;
@@ -66,15 +69,17 @@ class WasmMeshView implements ModeView {
   private disposed = false;
 
   constructor(private readonly kernelFor: () => Promise<KernelClient> = defaultKernel) {
-    this.material = new THREE.MeshPhongMaterial({ side: THREE.DoubleSide, clipShadows: true });
+    this.material = new THREE.MeshPhongMaterial({ side: THREE.FrontSide });
+    this.cap = new THREE.MeshBasicMaterial({ side: THREE.BackSide });
   }
 
   async mount(ctx: ModeContext): Promise<void> {
     this.ctx = ctx;
     const s = ctx.scene;
     this.material.color.setRGB(s.baseColor[0], s.baseColor[1], s.baseColor[2], THREE.SRGBColorSpace);
-    this.material.specular.setRGB(s.specular, s.specular, s.specular, THREE.LinearSRGBColorSpace);
+    this.material.specular = new THREE.Color(s.specular, s.specular, s.specular);
     this.material.shininess = s.shininess;
+    this.cap.color.setRGB(s.sectionCap[0], s.sectionCap[1], s.sectionCap[2], THREE.SRGBColorSpace);
     const canvas = document.createElement('canvas');
     canvas.style.cssText = 'position:absolute;inset:0;width:100%;height:100%;display:block';
     this.canvas = canvas;
@@ -121,15 +126,25 @@ class WasmMeshView implements ModeView {
 
   private replace(p: MeshPass, bounds: number[]): void {
     const geometry = meshGeometry(p.mesh);
-    this.material.vertexColors = p.mesh.colors !== null;
-    this.material.needsUpdate = true;
-    if (this.mesh) {
+    const colored = p.mesh.colors !== null;
+    if (this.material.vertexColors !== colored) {
+      this.material.vertexColors = colored;
+      // Vertex colours multiply the material's: white then (mode 3's rule).
+      const s = this.ctx.scene;
+      if (colored) this.material.color.setRGB(1, 1, 1);
+      else this.material.color.setRGB(s.baseColor[0], s.baseColor[1], s.baseColor[2], THREE.SRGBColorSpace);
+      this.material.needsUpdate = true;
+    }
+    if (this.mesh && this.capMesh) {
       this.mesh.geometry.dispose();
       this.mesh.geometry = geometry;
+      this.capMesh.geometry = geometry;
     } else {
       this.mesh = new THREE.Mesh(geometry, this.material);
-      this.stage.scene.add(this.mesh);
+      this.capMesh = new THREE.Mesh(geometry, this.cap);
+      this.stage.scene.add(this.mesh, this.capMesh);
     }
+    this.capMesh.visible = this.section !== null;
     this.bounds = bounds;
     this.render();
   }
@@ -143,9 +158,27 @@ class WasmMeshView implements ModeView {
   }
 
   setSection(s: SectionPlane | null): void {
-    this.material.clippingPlanes = s ? [clippingPlane(s)] : [];
-    this.material.needsUpdate = true;
+    this.section = s;
+    const planes = s ? [clippingPlane(s)] : [];
+    this.material.clippingPlanes = planes;
+    this.cap.clippingPlanes = planes;
+    // Back faces show only where the section opens the solid.
+    if (this.capMesh) this.capMesh.visible = s !== null;
     this.render();
+  }
+
+  async probe(x: number, y: number): Promise<ProbeResult | null> {
+    if (!this.mesh) return null;
+    const { width, height } = this.ctx.size();
+    applyCamera(this.stage, this.ctx.camera(), this.bounds, width, height);
+    const ray = new THREE.Raycaster();
+    ray.setFromCamera(new THREE.Vector2((2 * x) / width - 1, 1 - (2 * y) / height), this.stage.camera);
+    const sec = this.section;
+    const hit = ray
+      .intersectObject(this.mesh, false)
+      .find((h) => !sec || sec.normal[0] * h.point.x + sec.normal[1] * h.point.y + sec.normal[2] * h.point.z <= sec.offset);
+    if (!hit) return null;
+    return { point: [hit.point.x, hit.point.y, hit.point.z], value: null, attributes: [], source: 'mesh' };
   }
 
   resize(_w: number, _h: number): void {
@@ -172,6 +205,7 @@ class WasmMeshView implements ModeView {
     this.kernel?.cancel('mesh');
     this.mesh?.geometry.dispose();
     this.material.dispose();
+    this.cap.dispose();
     this.stage?.renderer.dispose();
     this.canvas?.remove();
   }
