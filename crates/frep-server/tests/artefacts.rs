@@ -150,6 +150,48 @@ async fn meshes_exports_and_shaders_of_a_stored_version() {
     assert_eq!(sh.bounds, [-1.0, -1.0, -1.0, 1.0, 1.0, 1.0]);
     assert!(!sh.uniforms.is_empty());
 
+    // Text meshes are compressed when the client accepts it; glb is not
+    // (meshopt already).
+    let obj: ArtefactRef = s
+        .post_json(
+            "/api/artefacts",
+            &of_version(ArtefactSpec::Export {
+                format: ExportFormat::Obj,
+                depth: 4,
+            }),
+        )
+        .await;
+    for (url, compressed) in [(&obj.url, true), (&mesh.url, false)] {
+        let resp = s
+            .client
+            .get(s.url(url))
+            .header("accept-encoding", "gzip")
+            .send()
+            .await
+            .unwrap();
+        assert_eq!(resp.status(), StatusCode::OK);
+        assert_eq!(
+            resp.headers().get("content-encoding").is_some(),
+            compressed,
+            "{url}"
+        );
+    }
+
+    // A volume carries its mapping in a header.
+    let slices: ArtefactRef = s
+        .post_json(
+            "/api/artefacts",
+            &of_version(ArtefactSpec::Slices { grid: 8 }),
+        )
+        .await;
+    let resp = s.client.get(s.url(&slices.url)).send().await.unwrap();
+    assert_eq!(resp.status(), StatusCode::OK);
+    let layout: frep_wire::VolumeLayout =
+        serde_json::from_str(resp.headers()["x-frep-volume"].to_str().unwrap()).unwrap();
+    let volume = resp.bytes().await.unwrap();
+    let [x, y, z] = layout.dims;
+    assert_eq!(volume.len(), (x * y * z) as usize);
+
     // Another parameter value is another artefact.
     let other: ArtefactRef = s
         .post_json(
@@ -213,6 +255,14 @@ async fn artefact_limits_and_errors_are_named() {
     assert_eq!(e.code, "model_error");
     assert_eq!(e.diagnostics[0].line, 3);
 
+    // A wrong extension for the key is a wrong URL.
+    let shader: ArtefactRef = s
+        .post_json("/api/artefacts", &from_source(ArtefactSpec::Shader))
+        .await;
+    let wrong = shader.url.replace(".json", ".png");
+    let r = s.client.get(s.url(&wrong)).send().await.unwrap();
+    assert_eq!(api_error(r).await.0, StatusCode::NOT_FOUND);
+
     // Unknown keys and malformed names are 404.
     let unknown = format!("/api/artefacts/{}.png", "ab".repeat(32));
     let r = s.client.get(s.url(&unknown)).send().await.unwrap();
@@ -241,5 +291,40 @@ async fn artefact_limits_and_errors_are_named() {
         .await
         .unwrap();
     assert_eq!(api_error(r).await.0, StatusCode::NOT_FOUND);
+    s.stop().await;
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn jobs_per_client_is_enforced_for_computations_only() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut c = config(dir.path());
+    c.limits.jobs_per_client = 1;
+    let s = Server::start(c).await;
+    let r: ArtefactRef = s
+        .post_json("/api/artefacts", &from_source(png(16, 16)))
+        .await;
+    // One computation at a time is allowed; it completes and is cached.
+    let resp = s.client.get(s.url(&r.url)).send().await.unwrap();
+    assert_eq!(resp.status(), StatusCode::OK);
+    s.stop().await;
+
+    // With no job slots, an uncached artefact is refused, naming the
+    // limit; a cached one is still served.
+    let mut c = config(dir.path());
+    c.limits.jobs_per_client = 0;
+    let s = Server::start(c).await;
+    let cached: ArtefactRef = s
+        .post_json("/api/artefacts", &from_source(png(16, 16)))
+        .await;
+    assert!(cached.ready);
+    let resp = s.client.get(s.url(&cached.url)).send().await.unwrap();
+    assert_eq!(resp.status(), StatusCode::OK);
+    let other: ArtefactRef = s
+        .post_json("/api/artefacts", &from_source(png(16, 24)))
+        .await;
+    let resp = s.client.get(s.url(&other.url)).send().await.unwrap();
+    let (status, e) = api_error(resp).await;
+    assert_eq!(status, StatusCode::TOO_MANY_REQUESTS);
+    assert_eq!(e.limit.as_deref(), Some("jobs_per_client"));
     s.stop().await;
 }
