@@ -19,10 +19,14 @@
 //!   has been idle for `idle_before_upgrade_ms`.
 //!
 //! A preference that lapses for one evaluation restarts its timer. Settings
-//! within the same mode change only when their inputs moved out of a band
-//! (the network by more than `network_band` ×, the load factor by
-//! `load_band` ×) or changed discretely (report, model edit, slow frames).
-//! An override is obeyed whenever the client can show the mode.
+//! within the same mode change when their inputs changed discretely
+//! (report, model edit, slow frames), moved out of a band (the network by
+//! more than `network_band` ×, the load factor by `load_band` ×), or when
+//! new settings beat the ones in force by `switch_margin` (after learning
+//! from the client's reports, or from the server's measurements). An
+//! override is obeyed whenever the client can show the mode. A hold (a
+//! better mode waiting) is logged when it starts; every decision is logged.
+//! Corrections and the override survive a reconnection.
 
 use std::collections::VecDeque;
 
@@ -33,7 +37,7 @@ use crate::client::ClientCaps;
 use crate::config::{ConfigError, EngineConfig};
 use crate::correction::{mode_index, Corrections};
 use crate::log::{InputSummary, LogEntry, Trigger};
-use crate::predict::{Inputs, Prediction};
+use crate::predict::{predict, Inputs, Prediction};
 use crate::reason;
 use crate::stats::{ModelStats, ServerLoad, ServerSample};
 
@@ -488,7 +492,10 @@ impl Engine {
     }
 
     /// Whether the target keeps the current mode but its settings should
-    /// change (their inputs moved out of band or changed discretely).
+    /// change: their inputs changed discretely (report, edit, slow frames),
+    /// moved out of band (network, load), or the new settings are better
+    /// than the ones in force by the switch margin (corrections learnt,
+    /// server measurements).
     fn settings_changed(&self, trigger: Trigger, target: &Scored) -> bool {
         let Some(cur) = self.current.as_ref() else {
             return false;
@@ -497,16 +504,48 @@ impl Engine {
             return false;
         }
         match trigger {
-            Trigger::Report | Trigger::Edit | Trigger::SlowFrames => true,
-            Trigger::Load => {
-                let f = self.load.factor() / self.basis_load;
-                f > self.config.load_band || f < 1.0 / self.config.load_band
-            }
-            Trigger::Measurement | Trigger::Periodic | Trigger::FrameRate | Trigger::Displayed => {
-                self.network_moved()
-            }
             Trigger::Connect | Trigger::Override => false,
+            Trigger::Report | Trigger::Edit | Trigger::SlowFrames => true,
+            // A frame rate acts through the slow-frames timer, not at once.
+            Trigger::FrameRate => self.network_moved() || self.load_moved(),
+            _ => {
+                self.network_moved()
+                    || self.load_moved()
+                    || (self.slow_since.is_none() && self.settings_gain(cur, target))
+            }
         }
+    }
+
+    /// Whether the load factor left the band around the settings' basis.
+    fn load_moved(&self) -> bool {
+        let f = self.load.factor() / self.basis_load;
+        f > self.config.load_band || f < 1.0 / self.config.load_band
+    }
+
+    /// Whether `target` is better than the settings in force, re-predicted
+    /// now, by the switch margin.
+    fn settings_gain(&self, cur: &Decision, target: &Scored) -> bool {
+        let (Some(caps), Some(net), Some(stats)) =
+            (self.caps.as_ref(), self.net.as_ref(), self.stats.as_ref())
+        else {
+            return false;
+        };
+        let inputs = Inputs {
+            caps,
+            net,
+            stats,
+            load: self.load,
+        };
+        let c = &self.config;
+        let now = predict(
+            cur.mode,
+            &cur.settings,
+            &inputs,
+            &c.limits,
+            &self.corrections,
+        );
+        let now_cost = choose::cost(&now, &c.weights, &c.limits, &inputs);
+        target.cost < now_cost * (1.0 - c.switch_margin)
     }
 
     /// Whether the network left the band around the current settings' basis.

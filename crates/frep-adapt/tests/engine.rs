@@ -499,3 +499,26 @@ fn a_lasting_hold_is_logged_once() {
         .reason
         .starts_with("held: GPU ray casting preferred since 1000 ms"));
 }
+
+#[test]
+fn a_slow_display_lowers_the_settings_next_time() {
+    let mut e = engine();
+    e.connect(workstation(), lan(), model(300), 0);
+    let d0 = e
+        .set_override(Some(Mode::ServerMesh), 100)
+        .expect("decides");
+    assert_eq!(d0.mode, Mode::ServerMesh);
+    let predicted = chosen(&d0).first_display_ms;
+    // The mesh took ten times as long to show: the next one is coarser.
+    let d = e
+        .displayed(Mode::ServerMesh, 10.0 * predicted, 300_000, 5_000)
+        .expect("settings follow the correction");
+    assert_eq!((d.mode, d.overridden), (Mode::ServerMesh, true));
+    assert_eq!(d.trigger, "displayed");
+    assert!(
+        d.settings.mesh_depth < d0.settings.mesh_depth,
+        "{} → {}",
+        d0.settings.mesh_depth,
+        d.settings.mesh_depth
+    );
+}
