@@ -24,6 +24,7 @@ use axum::Json;
 use frep_artefact::ArtefactError;
 use frep_wire::{ApiError, ArtefactRef, ArtefactRequest, ModelRef};
 use serde::Deserialize;
+use tracing::Instrument;
 
 use crate::compile::{check_params, check_source, compile_source};
 use crate::error::{ApiJson, ApiPath, ApiQuery, AppError, AppResult};
@@ -125,16 +126,14 @@ pub async fn get(
                 .acquire(peer.ip(), state.config.limits.jobs_per_client)?,
         )
     };
+    // The job's span: the artefact service's own events (compute, cache)
+    // are recorded inside it.
     let span = tracing::info_span!("job", key = %key, ext = %ext);
-    let body = {
-        let _enter = span.enter();
-        tracing::debug!("artefact wanted");
-        drop(_enter);
-        tokio::select! {
-            r = state.artefacts.get(key) => r.map_err(artefact_error)?,
-            _ = state.jobs_cancelled() => {
-                return Err(AppError::Cancelled("the server is shutting down".into()));
-            }
+    let body = tokio::select! {
+        r = state.artefacts.get(key).instrument(span.clone()) => r.map_err(artefact_error)?,
+        _ = state.jobs_cancelled() => {
+            tracing::info!(parent: &span, "cancelled by shutdown");
+            return Err(AppError::Cancelled("the server is shutting down".into()));
         }
     };
     if !extension_fits(ext, &body.media_type) {
@@ -143,8 +142,14 @@ pub async fn get(
             body.media_type
         )));
     }
-    tracing::info!(parent: &span, cached = body.cached, bytes = body.bytes.len(), server_ms = body.server_ms, "artefact served");
-    let mut r = body.bytes.clone().into_response();
+    tracing::info!(
+        parent: &span,
+        cached = body.cached,
+        bytes = body.bytes.len(),
+        server_ms = body.server_ms,
+        "artefact served"
+    );
+    let mut r = body.bytes.into_response();
     let h = r.headers_mut();
     set_cache_headers(h, &etag);
     insert(h, header::CONTENT_TYPE.as_str(), &body.media_type);

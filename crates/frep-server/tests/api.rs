@@ -477,3 +477,42 @@ async fn assets_are_stored_by_content() {
     assert_eq!(api_error(r).await.0, StatusCode::NOT_FOUND);
     s.stop().await;
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn compile_limits_come_back_as_diagnostics() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut c = config(dir.path());
+    c.limits.compile_iterations = 10;
+    let s = Server::start(c).await;
+    let looping = "my_model(x[3], a[1])\n{\n  i = 0;\n  while i < 100 loop\n    i = i + 1;\n  endloop;\n  my_model = 1 - x[1] * i;\n}\n";
+    let r: CompileResponse = s
+        .post_json(
+            "/api/compile",
+            &CompileRequest {
+                source: looping.into(),
+                params: vec![],
+                body: None,
+            },
+        )
+        .await;
+    assert!(!r.ok);
+    let d = &r.diagnostics[0];
+    assert!(d.line >= 1 && d.column >= 1, "{d:?}");
+    assert!(!d.message.is_empty());
+    // Under the default limits the same model compiles.
+    let dir2 = tempfile::tempdir().unwrap();
+    let s2 = Server::start(config(dir2.path())).await;
+    let r: CompileResponse = s2
+        .post_json(
+            "/api/compile",
+            &CompileRequest {
+                source: looping.into(),
+                params: vec![],
+                body: None,
+            },
+        )
+        .await;
+    assert!(r.ok, "{:?}", r.diagnostics);
+    s.stop().await;
+    s2.stop().await;
+}

@@ -130,3 +130,64 @@ async fn a_built_studio_is_served_with_an_index_fallback() {
     assert!(r.text().await.unwrap().contains("not_found"));
     s.stop().await;
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn shutdown_cancels_a_running_job_and_returns() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut c = config(dir.path());
+    // No grace: a job still running at shutdown is cancelled at once.
+    c.shutdown_grace_ms = 0;
+    c.limits.mesh_max_depth = 9;
+    let s = Server::start(c).await;
+    let gyroid = frep_server::examples::EXAMPLES
+        .iter()
+        .find(|(n, _)| *n == "m3_gyroid")
+        .unwrap()
+        .1;
+    let r: frep_wire::ArtefactRef = s
+        .post_json(
+            "/api/artefacts",
+            &frep_wire::ArtefactRequest {
+                model: frep_wire::ModelRef::Source {
+                    source: gyroid.into(),
+                },
+                params: vec![],
+                spec: frep_wire::ArtefactSpec::Mesh { depth: 9 },
+            },
+        )
+        .await;
+    let client = s.client.clone();
+    let url = s.url(&r.url);
+    let waiting = tokio::spawn(async move { client.get(url).send().await });
+    // Wait until the job runs (health counts it).
+    loop {
+        let h: serde_json::Value = s.get_json("/api/health").await;
+        if h["jobs"].as_u64().unwrap() > 0 {
+            break;
+        }
+        tokio::time::sleep(std::time::Duration::from_millis(5)).await;
+    }
+    // Stopping returns (run() completes) although the job was long.
+    s.stop().await;
+    let outcome = waiting.await.unwrap();
+    eprintln!(
+        "request at shutdown: {:?}",
+        outcome.as_ref().map(|r| r.status())
+    );
+    match outcome {
+        // The usual case: the request was answered "cancelled".
+        Ok(resp) if resp.status() == StatusCode::SERVICE_UNAVAILABLE => {
+            let e: frep_wire::ApiError = resp.json().await.unwrap();
+            assert_eq!(e.code, "cancelled");
+        }
+        // The job may have finished just before the stop.
+        Ok(resp) => assert_eq!(resp.status(), StatusCode::OK),
+        // Or the connection closed with the server.
+        Err(e) => assert!(e.is_request() || e.is_connect() || e.is_body(), "{e}"),
+    }
+    // The data folder is intact: a new server opens it.
+    let s = Server::start(config(dir.path())).await;
+    let list: Vec<ModelSummary> = s.get_json("/api/models").await;
+    assert_eq!(list.len(), frep_server::examples::EXAMPLES.len());
+    s.stop().await;
+}
