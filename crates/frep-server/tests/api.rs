@@ -476,6 +476,22 @@ async fn assets_are_stored_by_content() {
         .unwrap();
     assert_eq!(api_error(r).await.0, StatusCode::NOT_FOUND);
     s.stop().await;
+
+    // An upload over asset_bytes is refused, naming the limit.
+    let mut c = config(dir.path());
+    c.limits.asset_bytes = 100;
+    let s = Server::start(c).await;
+    let r = s
+        .client
+        .post(s.url("/api/assets?name=big.bin"))
+        .body(vec![7u8; 200])
+        .send()
+        .await
+        .unwrap();
+    let (status, e) = api_error(r).await;
+    assert_eq!(status, StatusCode::PAYLOAD_TOO_LARGE);
+    assert_eq!(e.limit.as_deref(), Some("asset_bytes"));
+    s.stop().await;
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
