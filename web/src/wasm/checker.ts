@@ -1,0 +1,54 @@
+/**
+ * The editor's checker (src/editor/checker.ts's `Checker`) with the
+ * WebAssembly kernel in front: a source with errors gets its diagnostics
+ * from the kernel in the worker, with no round trip; a source that
+ * compiles goes on to the server for its summary (parameter names and
+ * ranges, the graph hash, the decision's figures), which only the server
+ * has. When the kernel cannot load, every check goes to the server.
+ */
+import type { Checker } from '../editor/checker';
+import type { CompileResponse } from '../wire';
+import type { KernelClient } from './client';
+import { KernelCancelled } from './client';
+
+export class WasmChecker implements Checker {
+  private kernel: Promise<KernelClient | null>;
+  /** Checks answered by the kernel alone (for the tests and the panel). */
+  localAnswers = 0;
+
+  constructor(
+    private readonly server: Checker,
+    kernel: () => Promise<KernelClient>,
+  ) {
+    this.kernel = kernel().catch(() => null);
+  }
+
+  async check(source: string, params: number[], signal?: AbortSignal): Promise<CompileResponse> {
+    const k = await this.kernel;
+    if (k) {
+      try {
+        const d = await k.diagnose(source);
+        if (signal?.aborted) throw new DOMException('superseded', 'AbortError');
+        if (!d.ok) {
+          this.localAnswers++;
+          return { ok: false, diagnostics: d.diagnostics, summary: null };
+        }
+      } catch (e) {
+        if (e instanceof KernelCancelled) throw new DOMException('superseded', 'AbortError');
+        if (e instanceof DOMException && e.name === 'AbortError') throw e;
+        // The kernel failed on this source: the server decides.
+      }
+    }
+    return this.server.check(source, params, signal);
+  }
+}
+
+/** The studio's checker: the shared kernel worker in front of `server`. */
+export async function wasmChecker(server: Checker): Promise<WasmChecker> {
+  const { sharedKernel } = await import('./client');
+  return new WasmChecker(server, async () => {
+    const k = sharedKernel();
+    await k.whenReady();
+    return k;
+  });
+}
