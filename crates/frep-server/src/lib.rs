@@ -111,6 +111,7 @@ pub fn open_state(
         jobs: Arc::new(state::ClientJobs::default()),
         shutdown,
         cancel_jobs,
+        session_hub: Arc::new(std::sync::OnceLock::new()),
     })
 }
 

@@ -10,7 +10,7 @@
 
 use std::collections::HashMap;
 use std::net::IpAddr;
-use std::sync::{Arc, Mutex};
+use std::sync::{Arc, Mutex, OnceLock};
 
 use axum::http::StatusCode;
 use frep_artefact::{Artefacts, CompileCache};
@@ -49,6 +49,9 @@ pub struct AppState {
     /// Turns `true` when shutdown's grace period is over: requests still
     /// waiting for an artefact give up (their jobs are cancelled).
     pub cancel_jobs: watch::Receiver<bool>,
+    /// What the sessions of this server share, made on first use by the
+    /// session module (one per server, also when a process runs several).
+    pub session_hub: Arc<OnceLock<Arc<crate::session::Hub>>>,
 }
 
 impl AppState {
