@@ -310,8 +310,11 @@ impl Engine {
             return None;
         }
         let scored = self.predictions()?;
-        let (outcome, best) = self.plan(trigger, &scored, now_ms);
-        if outcome.issue || self.settings_changed(trigger, &scored[outcome.target]) {
+        let (mut outcome, best) = self.plan(trigger, &scored, now_ms);
+        if outcome.issue {
+            Some(self.commit(trigger, now_ms, &scored, best, &outcome))
+        } else if self.settings_changed(trigger, &scored[outcome.target]) {
+            outcome.note = outcome.note.or_else(|| Some(self.settings_note(trigger)));
             Some(self.commit(trigger, now_ms, &scored, best, &outcome))
         } else {
             self.record(trigger, now_ms, &scored, best, &outcome, None);
@@ -513,6 +516,28 @@ impl Engine {
                     || self.load_moved()
                     || (self.slow_since.is_none() && self.settings_gain(cur, target))
             }
+        }
+    }
+
+    /// Why the settings of the current mode change, in words.
+    fn settings_note(&self, trigger: Trigger) -> String {
+        let mode = self
+            .current
+            .as_ref()
+            .map_or("", |d| reason::mode_name(d.mode));
+        match trigger {
+            Trigger::SlowFrames => format!(
+                "frames stayed under {:.0} fps in {mode}: lighter settings",
+                self.config.weights.min_orbit_fps
+            ),
+            Trigger::Edit => "the model changed: settings for it".to_string(),
+            Trigger::Report => "the client's report changed: settings for it".to_string(),
+            Trigger::Load => "the server's load changed: settings for it".to_string(),
+            Trigger::Displayed => {
+                "learnt from the client's display times: new settings".to_string()
+            }
+            _ if self.network_moved() => "the network changed: settings for it".to_string(),
+            _ => "new measurements: better settings".to_string(),
         }
     }
 
