@@ -115,8 +115,10 @@ pub const DECODE_MS_PER_MPIX: f64 = 10.0;
 /// Client meshopt decode and upload ms per triangle on the reference
 /// desktop (864 k triangles ≈ 86 ms).
 pub const MESH_DECODE_MS_PER_TRIANGLE: f64 = 1.0e-4;
-/// WASM point evaluations per output triangle of the browser polygonizer.
-pub const WASM_EVALS_PER_TRIANGLE: f64 = 40.0;
+/// WASM point evaluations per output triangle of the browser polygonizer
+/// (corners, edge roots, interval work counted as points): with a 40 Meps
+/// desktop that is ~4 µs a triangle, twice the server's native cost.
+pub const WASM_EVALS_PER_TRIANGLE: f64 = 150.0;
 /// Fixed ms of any client frame (the browser's own work).
 pub const FRAME_BASE_MS: f64 = 0.5;
 
