@@ -8,20 +8,33 @@
 //!
 //! ## How it decides
 //! For every mode (1 still, 2 view set, 3 server mesh, 4a GPU ray casting,
-//! 4b WASM mesh, volume) [`predict`] works out the settings that fit the
-//! client ([`choose::settings`]) and predicts the time to first display, the
-//! time per orbit frame and the latency of a parameter edit, or refuses the
-//! mode with a reason (no WebGL2, a software renderer for a heavy shader,
-//! too many primitives for a browser shader...). [`choose`] scores the
-//! feasible modes (first display, orbit smoothness with a penalty under
-//! 20 fps, edits, and a fidelity penalty per mode) and picks the cheapest.
-//! [`Engine`] keeps one session's state: it re-decides on every event, with
-//! hysteresis (leaving a mode that fails its targets after ~2 s, switching
-//! to a better mode only after ~10 s of steady advantage and an idle user),
-//! obeys the user's override, learns correction factors from what the
-//! client reports it actually took ([`correction`]), and logs every
-//! decision with its inputs and predictions.
+//! 4b WASM mesh, volume) [`choose`] tries a short ladder of settings
+//! ([`choose::candidates`]: image size and quality, view count, mesh depth,
+//! render scale, volume grid) and [`predict`] predicts for each the time to
+//! first display, the time per orbit frame and the latency of a parameter
+//! edit, or refuses the mode with a reason (no WebGL2, a shader too long
+//! for a browser or too slow to compile on a software renderer, too many
+//! primitives, no WASM...). [`choose`] scores them (first display, orbit
+//! smoothness with a penalty under 20 fps, edits, and what each mode and
+//! lower settings give up) and keeps the cheapest settings of each mode and
+//! the cheapest feasible mode. [`Engine`] keeps one session's state: it
+//! re-decides on every event with hysteresis (leaving a mode that fails its
+//! targets after ~2 s, switching to a better mode only after ~10 s of
+//! steady advantage and an idle user), obeys the user's override, learns
+//! correction factors from what the client reports it actually took
+//! ([`correction`]), and logs every decision with its inputs and
+//! predictions ([`log`]); [`reason`] words the why with its numbers.
 //!
+//! ## Feeding it
+//! [`Engine::connect`] once the client's report and a model are known;
+//! then [`Engine::measurement`] (network), [`Engine::report`],
+//! [`Engine::frame_rate`], [`Engine::displayed`], [`Engine::model_changed`],
+//! [`Engine::server_measured`] (an artefact's measured cost),
+//! [`Engine::set_override`], [`Engine::load`], [`Engine::activity`] (camera
+//! moves and drags: upgrades wait for an idle user) and [`Engine::tick`]
+//! about every second (hysteresis timers advance only on events). Each
+//! returns `Some(decision)` when there is something new to push.
+
 //! ## Use
 //! ```
 //! use frep_adapt::{Engine, EngineConfig, ModelStats, Measured};

@@ -635,7 +635,6 @@ fn volume(s: &ModeSettings, inputs: &Inputs) -> Raw {
 #[cfg(test)]
 mod tests {
     use super::*;
-
     #[test]
     fn quality_table_is_monotone_and_anchored() {
         assert!((quality_factor(75) - 1.0).abs() < 1e-12);
