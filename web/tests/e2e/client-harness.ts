@@ -84,6 +84,40 @@ const harness = {
     await harness.show(source, params, summary);
   },
 
+  /** A section plane (keeps normal · p <= offset), or none; resolves after a few frames. */
+  async setSection(plane: { normal: [number, number, number]; offset: number } | null): Promise<void> {
+    m!.view.setSection(plane);
+    await harness.frames_(4);
+  },
+
+  /**
+   * Pixels of a PNG (base64) whose colour is near `rgb` (sRGB bytes):
+   * within `tol` on each channel after scaling to the brightest channel
+   * (so shading does not matter, the hue does).
+   */
+  async countHue(pngBase64: string, rgb: [number, number, number], tol: number): Promise<number> {
+    const bytes = Uint8Array.from(atob(pngBase64), (c) => c.charCodeAt(0));
+    const img = await createImageBitmap(new Blob([bytes], { type: 'image/png' }));
+    const c = document.createElement('canvas');
+    c.width = img.width;
+    c.height = img.height;
+    const g = c.getContext('2d')!;
+    g.drawImage(img, 0, 0);
+    const d = g.getImageData(0, 0, img.width, img.height).data;
+    const norm = (v: number[]) => {
+      const k = Math.max(...v, 1);
+      return v.map((x) => (255 * x) / k);
+    };
+    const want = norm(rgb);
+    let n = 0;
+    for (let i = 0; i < d.length; i += 4) {
+      if (Math.max(d[i]!, d[i + 1]!, d[i + 2]!) < 40) continue;
+      const got = norm([d[i]!, d[i + 1]!, d[i + 2]!]);
+      if (got.every((v, k) => Math.abs(v - want[k]!) <= tol)) n++;
+    }
+    return n;
+  },
+
   /** Frames displayed so far. */
   frames(): number {
     return m!.frames;

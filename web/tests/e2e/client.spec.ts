@@ -244,3 +244,47 @@ my_model(x[3], a[1])
   expect(stats.compilations).toBe('0');
   expect(await page.evaluate(() => (window as any).frepClient.failures())).toEqual([r.error]);
 });
+
+for (const mode of ['gpuRaycast', 'volume'] as Mode[]) {
+  test(`the section plane shows the inside in the attributes' colours (${mode})`, async ({ page }) => {
+    // A sphere blue near its surface and red inside (|p|² < 0.8): the cut
+    // face shows a red disc, which the whole sphere never shows.
+    const source = `-- bounds: -1.2,-1.2,-1.2,1.2,1.2,1.2
+my_model(x[3], a[1], s[3])
+{
+  r2 = x[1] * x[1] + x[2] * x[2] + x[3] * x[3];
+  if r2 < 0.8 then
+    s[1] = 1;
+    s[2] = 0;
+    s[3] = 0;
+  else
+    s[1] = 0;
+    s[2] = 0;
+    s[3] = 1;
+  endif;
+  my_model = 1 - r2;
+}
+`;
+    const summary = await compileSummary(source, []);
+    expect(summary.attributes).toBe(3);
+    await openHarness(page, mode);
+    expect(await show(page, source, [], summary)).toEqual({ ok: true });
+    if (mode === 'volume') await expect.poll(async () => (await page.evaluate(() => (window as any).frepClient.stats())).colors).toBe('wasm');
+    const red = async () => {
+      const shot = (await page.locator('#layer').screenshot()).toString('base64');
+      return page.evaluate(([p]) => (window as any).frepClient.countHue(p, [255, 0, 0], 40), [shot] as const);
+    };
+    const whole = await layerMask(page);
+    const redBefore = await red();
+    expect(redBefore).toBeLessThan(20);
+    // Keep x <= 0: the cut face at x = 0 faces the camera (yaw 30 looks from +x, -y).
+    await page.evaluate(() => (window as any).frepClient.setSection({ normal: [1, 0, 0], offset: 0 }));
+    const cut = await layerMask(page);
+    const area = (m: number[]) => m.reduce((a, b) => a + b, 0);
+    expect(area(cut)).toBeLessThan(area(whole));
+    // The red disc (radius 0.89) seen at an angle: hundreds of pixels.
+    const redAfter = await red();
+    console.log(`${mode} section: red pixels ${redBefore} whole, ${redAfter} cut`);
+    expect(redAfter).toBeGreaterThan(300);
+  });
+}
