@@ -26,15 +26,17 @@ let m: Mounted | null = null;
 let shows = 0;
 
 const harness = {
-  /** Mounts `mode` in a `size`×`size` CSS-pixel layer. */
-  async mount(mode: Mode, size: number): Promise<void> {
+  /** Mounts `mode` in a `size`×`size` CSS-pixel layer (`shaderFrom`: mode 4a's shader source). */
+  async mount(mode: Mode, size: number, shaderFrom?: 'server' | 'wasm'): Promise<void> {
     const layer = document.createElement('div');
     layer.id = 'layer';
     layer.style.cssText = `position:relative;width:${size}px;height:${size}px;background:${backgroundCss(SCENE)}`;
     document.body.style.margin = '0';
     document.body.appendChild(layer);
     const mods: Record<string, { create(m: Mode): ModeView }> = { gpuRaycast: raycast, wasmMesh: wasmmesh, volume };
-    const view = mods[mode]!.create(mode);
+    const view = shaderFrom
+      ? raycast.create(mode, { ...raycast.DEFAULT_RAYCAST, shaderFrom })
+      : mods[mode]!.create(mode);
     const state: Mounted = { view, layer, camera: { ...DEFAULT_CAMERA }, frames: 0, failures: [], size };
     const ctx: ModeContext = {
       container: layer,
