@@ -21,7 +21,7 @@ fn everything_written_is_read_back_after_reopen() {
     let path = dir.path().join("frep.db");
     let (id, asset, editor_id) = {
         let s = open(&path);
-        assert_eq!(s.migrations_applied(), &[1]);
+        assert_eq!(s.migrations_applied(), &[1, 2]);
         let id = create(&s, "ada", "kept", "v1").model.id;
         let asset = s.put_asset(b"mesh", "model/stl").unwrap();
         let v2 = NewVersion {
@@ -106,7 +106,7 @@ fn migrations_apply_once() {
     let path = dir.path().join("frep.db");
     for round in 0..3 {
         let s = open(&path);
-        let expect: &[u32] = if round == 0 { &[1] } else { &[] };
+        let expect: &[u32] = if round == 0 { &[1, 2] } else { &[] };
         assert_eq!(s.migrations_applied(), expect);
         create(&s, "ada", &format!("m{round}"), "x");
         assert_eq!(s.list_models().unwrap().len(), round + 1);
@@ -192,4 +192,52 @@ fn closed_store_refuses_calls() {
     // The checkpoint folded the WAL back into the file.
     assert!(!wal.exists() || std::fs::metadata(&wal).unwrap().len() == 0);
     assert_eq!(open(&path).get_model(&id).unwrap().version.source, "x");
+}
+
+#[test]
+fn a_schema_1_database_is_upgraded_with_its_data() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("frep.db");
+    {
+        // A database as schema 1 left it, with a model of two versions and
+        // an asset link (the foreign keys the rebuild must keep).
+        let conn = rusqlite::Connection::open(&path).unwrap();
+        conn.execute_batch(include_str!("../migrations/0001_init.sql"))
+            .unwrap();
+        conn.execute_batch(
+            "PRAGMA foreign_keys = ON;
+             INSERT INTO models VALUES ('m1', 'old', 'ada', 10, 20, 2, 2, NULL);
+             INSERT INTO versions VALUES ('m1', 1, 'héllo', x'', 'ada', 10, 'first', NULL);
+             INSERT INTO versions VALUES ('m1', 2, 'bye', x'000000000000F03F', 'bob', 20,
+                                          'second', 1);
+             INSERT INTO assets VALUES ('a', 1, 'text/plain', x'41', 15);
+             INSERT INTO version_assets VALUES ('m1', 2, 'note', 'a');
+             INSERT INTO changes (model_id, seq, kind, version, name, author, time)
+             VALUES ('m1', 1, 'created', 1, 'old', 'ada', 10),
+                    ('m1', 2, 'restored', 2, NULL, 'bob', 20);
+             PRAGMA user_version = 1;",
+        )
+        .unwrap();
+    }
+    let s = open(&path);
+    assert_eq!(s.migrations_applied(), &[2]);
+    let v2 = s.get_version("m1", Some(2)).unwrap();
+    assert_eq!(v2.source, "bye");
+    assert_eq!(v2.params, vec![1.0]);
+    assert_eq!(v2.restored_from, Some(1));
+    assert_eq!(v2.assets[0].name, "note");
+    let h = s.history("m1", HistoryPage::default()).unwrap();
+    let sizes: Vec<(u32, u32, &str)> = h
+        .iter()
+        .map(|v| (v.number, v.source_bytes, v.author.as_str()))
+        .collect();
+    assert_eq!(sizes, vec![(2, 3, "bob"), (1, 6, "ada")]);
+    // The upgraded database takes new versions with foreign keys enforced.
+    let v3 = s.save_version("m1", "cy", edit("three")).unwrap().value;
+    assert_eq!(v3.number, 3);
+    assert_eq!(s.changes("m1", 0, None).unwrap().len(), 3);
+    let conn = rusqlite::Connection::open(&path).unwrap();
+    conn.execute_batch("PRAGMA foreign_keys = ON").unwrap();
+    let orphan = conn.execute("INSERT INTO version_assets VALUES ('m1', 99, 'x', 'a')", []);
+    assert!(orphan.is_err(), "the rebuilt table lost its foreign key");
 }

@@ -7,6 +7,10 @@
 //! The number is assigned where it is written, and
 //! `PRIMARY KEY (model_id, number)` refuses a second version N from any
 //! other writer, so two saves can never both become version N.
+//!
+//! A version is two rows: its small columns in `versions` (what a history
+//! page lists) and its source and parameters in `version_sources`, so
+//! listing never reads sources.
 
 use std::collections::HashSet;
 use std::time::Duration;
@@ -49,19 +53,22 @@ pub(crate) fn insert(
         |r| r.get(0),
     )?;
     tx.execute(
-        "INSERT INTO versions (model_id, number, source, params, author, created, message,
-                               restored_from)
-         VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8)",
+        "INSERT INTO versions (model_id, number, author, created, restored_from,
+                               source_bytes, message)
+         VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7)",
         params![
             model_id,
             number,
-            c.source,
-            check::params_to_blob(&c.params),
             author,
             time,
+            c.restored_from,
+            c.source.len() as i64,
             c.message,
-            c.restored_from
         ],
+    )?;
+    tx.execute(
+        "INSERT INTO version_sources (model_id, number, params, source) VALUES (?1, ?2, ?3, ?4)",
+        params![model_id, number, check::params_to_blob(&c.params), c.source],
     )?;
     link_assets(tx, model_id, number, &c.assets)?;
     Ok(Version {
@@ -141,8 +148,9 @@ pub(crate) fn links(assets: &[AssetRef]) -> Vec<AssetLink> {
 pub(crate) fn load(tx: &Transaction, model_id: &str, number: u32) -> Result<Version> {
     let row = tx
         .query_row(
-            "SELECT source, params, author, created, message, restored_from FROM versions
-             WHERE model_id = ?1 AND number = ?2",
+            "SELECT s.source, s.params, v.author, v.created, v.message, v.restored_from
+             FROM versions v JOIN version_sources s USING (model_id, number)
+             WHERE v.model_id = ?1 AND v.number = ?2",
             params![model_id, number],
             |r| {
                 Ok((
@@ -195,7 +203,7 @@ pub(crate) fn history(
     let model = models::live(tx, model_id)?;
     let before = page.before.unwrap_or(model.latest.saturating_add(1));
     let mut stmt = tx.prepare_cached(
-        "SELECT number, author, created, message, restored_from, length(CAST(source AS BLOB))
+        "SELECT number, author, created, message, restored_from, source_bytes
          FROM versions WHERE model_id = ?1 AND number < ?2 ORDER BY number DESC LIMIT ?3",
     )?;
     let rows = stmt.query_map(params![model_id, before, limit], |r| {
