@@ -197,6 +197,22 @@ fn scale((w, h): (u32, u32), k: f64) -> (u32, u32) {
     (s(w), s(h))
 }
 
+/// Mode 1: orbit frame scales and the still's encoding.
+const STILL_STREAMS: [(f64, ImageEncoding); 4] = [
+    (2.0, ImageEncoding::Jpeg),
+    (2.0, ImageEncoding::Webp),
+    (3.0, ImageEncoding::Jpeg),
+    (3.0, ImageEncoding::Webp),
+];
+
+/// Mode 2: quality and encoding of the views.
+const VIEW_SET_ENCODINGS: [(u8, ImageEncoding); 4] = [
+    (75, ImageEncoding::Jpeg),
+    (75, ImageEncoding::Webp),
+    (60, ImageEncoding::Jpeg),
+    (60, ImageEncoding::Webp),
+];
+
 /// Candidate settings of a mode, best quality first.
 pub fn candidates(mode: Mode, inputs: &Inputs, limits: &Limits) -> Vec<ModeSettings> {
     let base = base_settings(inputs, limits);
@@ -207,13 +223,14 @@ pub fn candidates(mode: Mode, inputs: &Inputs, limits: &Limits) -> Vec<ModeSetti
             for k in [1.0, 0.75, 0.5] {
                 for q in [85u8, 75, 60, 50, 40] {
                     let (width, height) = scale((base.width, base.height), k);
-                    for moving_scale in [2.0, 3.0] {
+                    for (moving_scale, format) in STILL_STREAMS {
                         out.push(ModeSettings {
                             width,
                             height,
                             quality: q,
                             moving_scale,
                             moving_quality: q.saturating_sub(25).max(30),
+                            format,
                             ..base.clone()
                         });
                     }
@@ -227,13 +244,14 @@ pub fn candidates(mode: Mode, inputs: &Inputs, limits: &Limits) -> Vec<ModeSetti
                 for (views, elevations) in
                     [(24, vec![0.0, 35.0]), (24, vec![20.0]), (12, vec![20.0])]
                 {
-                    for q in [75u8, 60] {
+                    for (q, format) in VIEW_SET_ENCODINGS {
                         out.push(ModeSettings {
                             width: side,
                             height: side,
                             quality: q,
                             views,
                             elevations: elevations.clone(),
+                            format,
                             ..base.clone()
                         });
                     }

@@ -22,7 +22,10 @@
 //!   the part of the tape that matters in each region.
 //! * **bytes**: JPEG [`JPEG_BYTES_PER_PIXEL_Q75`] bytes per pixel at q75
 //!   (22 kB at 512²), scaled by quality and, for small views, by
-//!   (512² / pixels)^¼ (12 views of 256² ≈ 99 kB); meshopt glb
+//!   (512² / pixels)^¼ (12 views of 256² ≈ 99 kB); WebP
+//!   [`WEBP_BYTES_FACTOR`] of that for [`WEBP_EXTRA_ENCODE_MS_PER_MPIX`]
+//!   more encoding (stills and view sets only: streamed frames stay JPEG);
+//!   meshopt glb
 //!   [`MESH_BYTES_PER_TRIANGLE`] bytes per triangle; volumes
 //!   [`VOLUME_BYTES_PER_CELL`] per cell (narrow band, compressed).
 //!   Transfer is bytes × 8 / bandwidth, plus one round trip per request
@@ -59,7 +62,7 @@
 //! is only a first estimate; the corrections learnt from the client's
 //! reports ([`crate::Corrections`]) multiply the predictions of each mode.
 
-use frep_wire::{Mode, ModePrediction, ModeSettings, NetworkEstimate};
+use frep_wire::{ImageEncoding, Mode, ModePrediction, ModeSettings, NetworkEstimate};
 use serde::Serialize;
 
 use crate::client::{ClientCaps, Limits};
@@ -75,6 +78,13 @@ pub const RENDER_MS_PER_MPIX_GENERAL: f64 = 80.0;
 pub const ENCODE_MS_PER_MPIX: f64 = 30.0;
 /// JPEG bytes per pixel at quality 75 (22 kB at 512²).
 pub const JPEG_BYTES_PER_PIXEL_Q75: f64 = 0.084;
+/// WebP size relative to JPEG at the same quality (11 / 22 kB at 512²,
+/// 52 / 99 kB for a 12-view turntable).
+pub const WEBP_BYTES_FACTOR: f64 = 0.52;
+/// WebP's extra encoding ms per megapixel over JPEG (43 vs 8 ms at 512²).
+pub const WEBP_EXTRA_ENCODE_MS_PER_MPIX: f64 = 134.0;
+/// PNG (fast) bytes per pixel (125 kB at 512²).
+pub const PNG_BYTES_PER_PIXEL: f64 = 0.477;
 /// Triangles = this × 4^depth (a compact solid filling a fair part of its
 /// box; a gyroid has ~10).
 pub const MESH_TRIANGLES_PER_CELL_FACTOR: f64 = 4.0;
@@ -347,8 +357,9 @@ pub fn compile_ms(inputs: &Inputs) -> f64 {
     COMPILE_BASE_MS + per * f64::from(inputs.stats.statements())
 }
 
-/// Server ms to render and encode `pixels` at the current load.
-pub fn server_image_ms(inputs: &Inputs, pixels: f64) -> f64 {
+/// Server ms to render and encode `pixels` at the current load (a
+/// measured image counts as JPEG).
+pub fn server_image_ms(inputs: &Inputs, pixels: f64, format: ImageEncoding) -> f64 {
     let stats = inputs.stats;
     let per_mpix = match stats.measured.image {
         Some(s) => s.server_ms / s.pixels as f64 * 1.0e6,
@@ -361,7 +372,11 @@ pub fn server_image_ms(inputs: &Inputs, pixels: f64) -> f64 {
             render + ENCODE_MS_PER_MPIX
         }
     };
-    per_mpix * pixels / 1.0e6 * inputs.load.factor()
+    let extra = match format {
+        ImageEncoding::Webp => WEBP_EXTRA_ENCODE_MS_PER_MPIX,
+        ImageEncoding::Jpeg | ImageEncoding::Png => 0.0,
+    };
+    (per_mpix + extra) * pixels / 1.0e6 * inputs.load.factor()
 }
 
 /// JPEG size relative to q75, by quality (interpolated).
@@ -386,7 +401,10 @@ fn quality_factor(quality: u8) -> f64 {
 }
 
 /// Encoded bytes of one image of `pixels` at `quality`.
-pub fn image_bytes(inputs: &Inputs, pixels: f64, quality: u8) -> f64 {
+pub fn image_bytes(inputs: &Inputs, pixels: f64, quality: u8, format: ImageEncoding) -> f64 {
+    if format == ImageEncoding::Png {
+        return PNG_BYTES_PER_PIXEL * pixels;
+    }
     // Small images compress worse per pixel.
     let small = (262_144.0 / pixels.max(1.0)).powf(0.25).clamp(0.7, 2.0);
     let per_pixel = match inputs.stats.measured.image {
@@ -394,7 +412,12 @@ pub fn image_bytes(inputs: &Inputs, pixels: f64, quality: u8) -> f64 {
         Some(s) => s.bytes as f64 / s.pixels as f64 / quality_factor(s.quality),
         None => JPEG_BYTES_PER_PIXEL_Q75,
     };
-    per_pixel * quality_factor(quality) * small * pixels
+    let webp = if format == ImageEncoding::Webp {
+        WEBP_BYTES_FACTOR
+    } else {
+        1.0
+    };
+    per_pixel * quality_factor(quality) * small * webp * pixels
 }
 
 /// Client ms to decode an image of `pixels`.
@@ -409,16 +432,18 @@ fn pixels(settings: &ModeSettings) -> f64 {
 /// Mode 1: one image per request; orbit frames are reduced images.
 fn still(s: &ModeSettings, inputs: &Inputs) -> Raw {
     let px = pixels(s);
-    let bytes = image_bytes(inputs, px, s.quality);
+    let bytes = image_bytes(inputs, px, s.quality, s.format);
     let first = inputs.rtt()
-        + server_image_ms(inputs, px)
+        + server_image_ms(inputs, px, s.format)
         + inputs.transfer_ms(bytes)
         + decode_ms(inputs, px);
     let scale = s.moving_scale.max(1.0);
     let mpx = px / (scale * scale);
-    let mbytes = image_bytes(inputs, mpx, s.moving_quality);
+    // Streamed frames are JPEG whatever the still's format: WebP's encoder
+    // is five times slower.
+    let mbytes = image_bytes(inputs, mpx, s.moving_quality, ImageEncoding::Jpeg);
     let orbit = inputs.rtt()
-        + server_image_ms(inputs, mpx)
+        + server_image_ms(inputs, mpx, ImageEncoding::Jpeg)
         + inputs.transfer_ms(mbytes)
         + decode_ms(inputs, mpx);
     Raw {
@@ -434,9 +459,9 @@ fn still(s: &ModeSettings, inputs: &Inputs) -> Raw {
 fn view_set(s: &ModeSettings, inputs: &Inputs) -> Raw {
     let count = f64::from(s.views.max(1)) * s.elevations.len().max(1) as f64;
     let px = pixels(s);
-    let bytes = image_bytes(inputs, px, s.quality) * count;
+    let bytes = image_bytes(inputs, px, s.quality, s.format) * count;
     let work = 2.0 * inputs.rtt()
-        + server_image_ms(inputs, px * count)
+        + server_image_ms(inputs, px * count, s.format)
         + inputs.transfer_ms(bytes)
         + decode_ms(inputs, px * count);
     Raw {

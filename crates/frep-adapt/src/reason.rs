@@ -2,7 +2,7 @@
 //! modes out, the mode and its settings, what it is expected to do, and the
 //! network and load it assumed.
 
-use frep_wire::{Mode, ModeSettings};
+use frep_wire::{ImageEncoding, Mode, ModeSettings};
 
 use crate::choose::Scored;
 use crate::correction::mode_index;
@@ -63,12 +63,19 @@ pub fn bytes_words(bytes: f64) -> String {
 pub fn settings_words(mode: Mode, s: &ModeSettings, bytes: f64, inputs: &Inputs) -> String {
     let size = bytes_words(bytes);
     match mode {
-        Mode::Still => format!("{}×{} JPEG q{} ({size})", s.width, s.height, s.quality),
+        Mode::Still => format!(
+            "{}×{} {} q{} ({size})",
+            s.width,
+            s.height,
+            format_name(s.format),
+            s.quality
+        ),
         Mode::ViewSet => format!(
-            "{} views of {}×{} q{} ({size})",
+            "{} views of {}×{} {} q{} ({size})",
             s.views as usize * s.elevations.len().max(1),
             s.width,
             s.height,
+            format_name(s.format),
             s.quality
         ),
         Mode::ServerMesh => {
@@ -93,6 +100,14 @@ pub fn settings_words(mode: Mode, s: &ModeSettings, bytes: f64, inputs: &Inputs)
             "{}³ grid ({size}), rendered at {}×{}",
             s.volume_grid, s.width, s.height
         ),
+    }
+}
+
+fn format_name(f: ImageEncoding) -> &'static str {
+    match f {
+        ImageEncoding::Jpeg => "JPEG",
+        ImageEncoding::Webp => "WebP",
+        ImageEncoding::Png => "PNG",
     }
 }
 

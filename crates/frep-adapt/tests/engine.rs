@@ -104,49 +104,52 @@ fn displayed_times_correct_the_next_prediction() {
     assert_eq!(e.corrections().get(Mode::ViewSet).first_display.samples, 0);
 }
 
-/// The bandwidth (Mbit/s) at 150 ms round trip where a desktop without WebGL
-/// changes its mode at connection, found by bisection.
-fn mode_threshold() -> (f64, Mode, Mode) {
-    let mode_at = |mbps: f64| {
+/// The round trip (ms) on a 20 Mbit/s link where a desktop without WebGL
+/// changes its mode at connection (streamed stills on short round trips, a
+/// view set on long ones), found by bisection.
+fn mode_threshold() -> f64 {
+    let mode_at = |rtt: f64| {
         engine()
-            .connect(desktop_without_webgl(), net(mbps, 150.0), model(100), 0)
+            .connect(desktop_without_webgl(), net(20.0, rtt), model(100), 0)
             .mode
     };
-    let (mut lo, mut hi) = (0.1, 100.0);
-    let (m_lo, m_hi) = (mode_at(lo), mode_at(hi));
-    assert_ne!(m_lo, m_hi, "a slow and a fast link choose differently");
+    let (mut lo, mut hi) = (5.0, 400.0);
+    assert_eq!(mode_at(lo), Mode::Still);
+    assert_eq!(mode_at(hi), Mode::ViewSet);
     for _ in 0..40 {
-        let mid: f64 = (lo * hi).sqrt();
-        if mode_at(mid) == m_lo {
+        let mid = 0.5 * (lo + hi);
+        if mode_at(mid) == Mode::Still {
             lo = mid;
         } else {
             hi = mid;
         }
     }
-    ((lo * hi).sqrt(), m_lo, m_hi)
+    0.5 * (lo + hi)
 }
 
-/// Mode changes over two minutes of jittery measurements around
-/// `threshold`, and decisions issued.
+/// Mode changes over two minutes of jittery measurements around the
+/// `threshold` round trip, and decisions issued.
 fn jitter(mut e: Engine, threshold: f64, start: f64) -> (Vec<Mode>, u32) {
     let d0 = e.connect(
         desktop_without_webgl(),
-        net(threshold * start, 150.0),
+        net(20.0, threshold * start),
         model(100),
         0,
     );
     let mut modes = vec![d0.mode];
     let mut decisions = 0;
-    // A pseudo-random ±20 % bandwidth and ±20 ms round trip every 250 ms
-    // (a linear congruential sequence: reproducible).
+    // A pseudo-random ±15 % round trip and ±20 % bandwidth every 250 ms (a
+    // linear congruential sequence: reproducible).
     let mut x: u64 = 12345;
-    for step in 1..480u64 {
+    let mut next = || {
         x = x
             .wrapping_mul(6364136223846793005)
             .wrapping_add(1442695040888963407);
-        let u = (x >> 33) as f64 / (1u64 << 31) as f64; // [0, 1)
-        let mbps = threshold * (0.8 + 0.4 * u);
-        let rtt = 150.0 + 40.0 * (u - 0.5);
+        (x >> 33) as f64 / (1u64 << 31) as f64 // [0, 1)
+    };
+    for step in 1..480u64 {
+        let rtt = threshold * (0.85 + 0.3 * next());
+        let mbps = 20.0 * (0.8 + 0.4 * next());
         let t = step * 250;
         for d in [e.measurement(net(mbps, rtt), t), e.tick(t + 100)]
             .into_iter()
@@ -163,7 +166,7 @@ fn jitter(mut e: Engine, threshold: f64, start: f64) -> (Vec<Mode>, u32) {
 
 #[test]
 fn jitter_around_a_threshold_does_not_flap() {
-    let (threshold, _, _) = mode_threshold();
+    let threshold = mode_threshold();
     // Without hysteresis the same measurements flap: the threshold is real.
     let eager = EngineConfig {
         switch_margin: 0.0,
