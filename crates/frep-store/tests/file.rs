@@ -159,11 +159,15 @@ fn concurrent_saves_get_distinct_consecutive_numbers() {
         }));
     }
     let mut numbers = Vec::new();
+    let mut refused = 0;
     for h in handles {
-        let (mine, _) = h.join().unwrap();
+        let (mine, conflicts) = h.join().unwrap();
+        refused += conflicts;
         assert!(mine.windows(2).all(|w| w[0] < w[1]));
         numbers.extend(mine);
     }
+    // Every save either committed or was refused as a conflict.
+    assert_eq!(numbers.len() + refused, threads * per);
     let set: BTreeSet<u32> = numbers.iter().copied().collect();
     assert_eq!(set.len(), numbers.len(), "a number was given twice");
     let expect: BTreeSet<u32> = (2..=numbers.len() as u32 + 1).collect();

@@ -188,6 +188,11 @@ fn rename_duplicate_delete() {
     assert_eq!(r.change.name.as_deref(), Some("new name"));
     assert_eq!(s.get_model(&id).unwrap().model.name, "new name");
     assert_eq!(s.get_model(&id).unwrap().model.latest, 2);
+    let v2_time = s.get_version(&id, Some(2)).unwrap().created;
+    assert_eq!(
+        r.value.updated, v2_time,
+        "updated is the latest version's time"
+    );
 
     let d = s.duplicate(&id, "bob", "copy").unwrap();
     assert_ne!(d.value.model.id, id);

@@ -123,9 +123,10 @@ pub(crate) fn rename(
     check::name(limits, name)?;
     live(tx, model_id)?;
     let time = check::now_ms();
+    // `updated` is the time of the latest version, so a rename leaves it.
     tx.execute(
-        "UPDATE models SET name = ?2, updated = ?3 WHERE id = ?1",
-        params![model_id, name, time],
+        "UPDATE models SET name = ?2 WHERE id = ?1",
+        params![model_id, name],
     )?;
     let change = log::append(
         tx,
