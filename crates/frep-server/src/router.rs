@@ -10,22 +10,26 @@
 //! `ApiError` naming the limit.
 
 use std::any::Any;
+use std::path::Path;
 use std::time::Duration;
 
 use axum::body::Body;
 use axum::extract::{DefaultBodyLimit, State};
-use axum::http::{Request, Response, StatusCode};
+use axum::http::{header, HeaderValue, Request, Response, StatusCode};
 use axum::response::IntoResponse;
 use axum::routing::{get, post};
 use axum::{Json, Router};
 use serde::Serialize;
+use tower::ServiceBuilder;
 use tower_http::catch_panic::CatchPanicLayer;
 use tower_http::compression::predicate::{NotForContentType, Predicate, SizeAbove};
 use tower_http::compression::CompressionLayer;
 use tower_http::services::{ServeDir, ServeFile};
+use tower_http::set_header::SetResponseHeaderLayer;
 use tower_http::trace::TraceLayer;
 use tracing::Span;
 
+use crate::artefacts::IMMUTABLE;
 use crate::error::AppError;
 use crate::state::AppState;
 use crate::{artefacts, assets, compile, models, openapi, page, session, versions};
@@ -63,10 +67,7 @@ pub fn router(state: AppState) -> Router {
         .route("/api/session", get(session::handler))
         .route("/api/{*rest}", axum::routing::any(api_not_found));
     let app = match state.config.studio_dir() {
-        Some(dir) => {
-            let index = dir.join("index.html");
-            api.fallback_service(ServeDir::new(dir).fallback(ServeFile::new(index)))
-        }
+        Some(dir) => studio(api, dir),
         None => api.route("/", get(page::index)).fallback(page_not_found),
     };
     app.layer(DefaultBodyLimit::max(limits.request_bytes))
@@ -92,6 +93,29 @@ pub fn router(state: AppState) -> Router {
                 .on_failure(()),
         )
         .with_state(state)
+}
+
+/// The built studio: its hashed `assets/` immutable, everything else
+/// (`index.html`, also for the studio's own client-side paths) revalidated
+/// on every load so that a new build is picked up.
+fn studio(api: Router<AppState>, dir: &Path) -> Router<AppState> {
+    let assets = ServiceBuilder::new()
+        .layer(SetResponseHeaderLayer::if_not_present(
+            header::CACHE_CONTROL,
+            |res: &Response<_>| {
+                res.status()
+                    .is_success()
+                    .then(|| HeaderValue::from_static(IMMUTABLE))
+            },
+        ))
+        .service(ServeDir::new(dir.join("assets")));
+    let rest = ServiceBuilder::new()
+        .layer(SetResponseHeaderLayer::if_not_present(
+            header::CACHE_CONTROL,
+            HeaderValue::from_static("no-cache"),
+        ))
+        .service(ServeDir::new(dir).fallback(ServeFile::new(dir.join("index.html"))));
+    api.nest_service("/assets", assets).fallback_service(rest)
 }
 
 /// Compress text-like bodies over 256 bytes; never images, glb (meshopt

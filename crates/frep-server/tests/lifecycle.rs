@@ -118,9 +118,18 @@ async fn a_built_studio_is_served_with_an_index_fallback() {
     let s = Server::start(c).await;
     let get = |p: &str| s.client.get(s.url(p)).send();
     let r = get("/").await.unwrap();
+    assert_eq!(r.headers()["cache-control"], "no-cache");
     assert!(r.text().await.unwrap().contains("<title>studio</title>"));
+    // Built assets have hashed names: immutable.
     let r = get("/assets/app.js").await.unwrap();
+    assert!(r.headers()["cache-control"]
+        .to_str()
+        .unwrap()
+        .contains("immutable"));
     assert_eq!(r.text().await.unwrap(), "console.log('frep');");
+    let r = get("/assets/missing.js").await.unwrap();
+    assert_eq!(r.status(), StatusCode::NOT_FOUND);
+    assert!(r.headers().get("cache-control").is_none());
     // A client-side route gets the studio's page.
     let r = get("/models/abc").await.unwrap();
     assert!(r.text().await.unwrap().contains("<title>studio</title>"));
