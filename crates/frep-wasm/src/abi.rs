@@ -78,7 +78,11 @@ fn json<T: serde::de::DeserializeOwned>(b: &[u8]) -> Result<T, String> {
 }
 
 fn f64_bytes(v: &[f64]) -> Vec<u8> {
-    v.iter().flat_map(|x| x.to_le_bytes()).collect()
+    let mut out = Vec::with_capacity(8 * v.len());
+    for x in v {
+        out.extend_from_slice(&x.to_le_bytes());
+    }
+    out
 }
 
 /// The ABI version ([`ABI_VERSION`]).
