@@ -13,6 +13,7 @@
 //! | `compute_failed` | 422 | a kernel could not compute an artefact of the model |
 //! | `forbidden` | 403 | a write by a user who may not edit the model |
 //! | `not_found` | 404 | no such model, version, artefact or asset |
+//! | `method_not_allowed` | 405 | a route used with another method |
 //! | `conflict` | 409 | a save whose base is no longer the latest (the message and `latest` say which is) |
 //! | `busy` | 503 | the artefact queue is full, or the server is shutting down |
 //! | `cancelled` | 503 | the computation was cancelled (shutdown) |
@@ -34,6 +35,9 @@ pub enum AppError {
     /// No such thing.
     #[error("{0}")]
     NotFound(String),
+    /// The route exists, not with this method.
+    #[error("{0}")]
+    MethodNotAllowed(String),
     /// The user may not do this.
     #[error("{0}")]
     Forbidden(String),
@@ -87,6 +91,7 @@ impl AppError {
         match self {
             AppError::BadRequest(_) => StatusCode::BAD_REQUEST,
             AppError::NotFound(_) => StatusCode::NOT_FOUND,
+            AppError::MethodNotAllowed(_) => StatusCode::METHOD_NOT_ALLOWED,
             AppError::Forbidden(_) => StatusCode::FORBIDDEN,
             AppError::Conflict { .. } => StatusCode::CONFLICT,
             AppError::Model(_) | AppError::Unprocessable(_) => StatusCode::UNPROCESSABLE_ENTITY,
@@ -101,6 +106,7 @@ impl AppError {
         let (code, message) = match self {
             AppError::BadRequest(m) => ("bad_request", m.clone()),
             AppError::NotFound(m) => ("not_found", m.clone()),
+            AppError::MethodNotAllowed(m) => ("method_not_allowed", m.clone()),
             AppError::Forbidden(m) => ("forbidden", m.clone()),
             AppError::Conflict { .. } => ("conflict", self.to_string()),
             AppError::Model(_) => ("model_error", self.to_string()),

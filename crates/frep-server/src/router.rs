@@ -65,7 +65,8 @@ pub fn router(state: AppState) -> Router {
         .route("/api/openapi.json", get(openapi::document))
         .route("/api/health", get(health))
         .route("/api/session", get(session::handler))
-        .route("/api/{*rest}", axum::routing::any(api_not_found));
+        .route("/api/{*rest}", axum::routing::any(api_not_found))
+        .method_not_allowed_fallback(method_not_allowed);
     let app = match state.config.studio_dir() {
         Some(dir) => studio(api, dir),
         None => api.route("/", get(page::index)).fallback(page_not_found),
@@ -142,6 +143,10 @@ fn panic_response(err: Box<dyn Any + Send + 'static>) -> Response<Body> {
 
 async fn api_not_found(uri: axum::http::Uri) -> AppError {
     AppError::NotFound(format!("no API route {}", uri.path()))
+}
+
+async fn method_not_allowed(method: axum::http::Method, uri: axum::http::Uri) -> AppError {
+    AppError::MethodNotAllowed(format!("{method} is not allowed on {}", uri.path()))
 }
 
 async fn page_not_found(uri: axum::http::Uri) -> AppError {

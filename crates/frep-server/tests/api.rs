@@ -293,6 +293,12 @@ async fn bad_input_gets_a_clear_json_error() {
     assert_eq!(status, StatusCode::PAYLOAD_TOO_LARGE);
     assert_eq!(e.limit.as_deref(), Some("request_bytes"));
 
+    // A known route with another method is a JSON 405.
+    let r = s.client.put(s.url("/api/models")).send().await.unwrap();
+    let (status, e) = api_error(r).await;
+    assert_eq!(status, StatusCode::METHOD_NOT_ALLOWED);
+    assert_eq!(e.code, "method_not_allowed");
+
     // Unknown routes and models are JSON 404s; an empty name is refused.
     let r = s.client.get(s.url("/api/nothing")).send().await.unwrap();
     assert_eq!(api_error(r).await.1.code, "not_found");
