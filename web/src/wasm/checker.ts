@@ -43,12 +43,11 @@ export class WasmChecker implements Checker {
   }
 }
 
-/** The studio's checker: the shared kernel worker in front of `server`. */
+/**
+ * The studio's checker: the shared kernel worker in front of `server`
+ * (`new WasmChecker(server, sharedKernelReady)` is the same, synchronously).
+ */
 export async function wasmChecker(server: Checker): Promise<WasmChecker> {
-  const { sharedKernel } = await import('./client');
-  return new WasmChecker(server, async () => {
-    const k = sharedKernel();
-    await k.whenReady();
-    return k;
-  });
+  const { sharedKernelReady } = await import('./client');
+  return new WasmChecker(server, sharedKernelReady);
 }

@@ -182,3 +182,10 @@ export function sharedKernel(): KernelClient {
   }
   return shared;
 }
+
+/** The shared kernel once its module is loaded (rejects when it cannot load). */
+export async function sharedKernelReady(): Promise<KernelClient> {
+  const k = sharedKernel();
+  await k.whenReady();
+  return k;
+}
