@@ -315,3 +315,22 @@ test('a text edit in mode 4a compiles once more and shows the new model', async 
   expect(iou(before, after)).toBeLessThan(0.9);
   expect(iou(await mask(page, await serverImage(b, [])), after)).toBeGreaterThanOrEqual(0.95);
 });
+
+test('mode 4a generates the shader in the browser when the server cannot give it', async ({ page }) => {
+  const source = example('m4_rblend10');
+  const summary = await compileSummary(source, []);
+  const reference = await serverImage(source, []);
+  await openHarness(page, 'gpuRaycast');
+  // The server refuses shader artefacts (an overloaded or older server).
+  await page.route('**/api/artefacts', (route) => {
+    const body = route.request().postData() ?? '';
+    if (route.request().method() === 'POST' && body.includes('"kind":"shader"')) {
+      return route.fulfill({ status: 503, contentType: 'application/json', body: '{"code":"busy","message":"busy"}' });
+    }
+    return route.continue();
+  });
+  expect(await show(page, source, [], summary)).toEqual({ ok: true });
+  const stats = await page.evaluate(() => (window as any).frepClient.stats());
+  expect(stats.shaderFrom).toBe('wasm');
+  expect(iou(await mask(page, reference), await layerMask(page))).toBeGreaterThanOrEqual(0.95);
+});
