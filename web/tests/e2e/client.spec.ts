@@ -334,3 +334,23 @@ test('mode 4a generates the shader in the browser when the server cannot give it
   expect(stats.shaderFrom).toBe('wasm');
   expect(iou(await mask(page, reference), await layerMask(page))).toBeGreaterThanOrEqual(0.95);
 });
+
+test('mode 4b drops a mesh superseded by a newer model and shows the newer one', async ({ page }) => {
+  const a = example('sphere');
+  const b = example('m4_rblend10');
+  const [sa, sb] = await Promise.all([compileSummary(a, []), compileSummary(b, [])]);
+  const reference = await serverImage(b, []);
+  await openHarness(page, 'wasmMesh');
+  // Both requests at once, as when the user edits while the first meshes.
+  const results = await page.evaluate(
+    ([a, sa, b, sb]) => {
+      const h = (window as any).frepClient;
+      return Promise.all([h.show(a, [], sa), h.show(b, [], sb)]);
+    },
+    [a, sa, b, sb] as const,
+  );
+  expect(results[1]).toEqual({ ok: true });
+  await expect.poll(async () => (await page.evaluate(() => (window as any).frepClient.stats())).depth).toBe(String(DEFAULT_DEPTHS.fine));
+  await page.evaluate(() => (window as any).frepClient.frames_(3));
+  expect(iou(await mask(page, reference), await layerMask(page))).toBeGreaterThanOrEqual(0.95);
+});
