@@ -538,3 +538,37 @@ async fn compile_limits_come_back_as_diagnostics() {
     s.stop().await;
     s2.stop().await;
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn concurrent_saves_from_one_base_let_exactly_one_through() {
+    let dir = tempfile::tempdir().unwrap();
+    let s = Server::start(config(dir.path())).await;
+    let id = s.create("contested", SPHERE).await.model.id;
+    let url = s.url(&format!("/api/models/{id}/versions"));
+    let tasks: Vec<_> = (0..12)
+        .map(|i| {
+            let (client, url) = (s.client.clone(), url.clone());
+            tokio::spawn(async move {
+                client
+                    .post(url)
+                    .json(&save(&format!("-- editor {i}\n"), Some(1), "race"))
+                    .send()
+                    .await
+                    .unwrap()
+                    .status()
+            })
+        })
+        .collect();
+    let mut created = 0;
+    for t in tasks {
+        match t.await.unwrap() {
+            StatusCode::CREATED => created += 1,
+            StatusCode::CONFLICT => {}
+            other => panic!("unexpected {other}"),
+        }
+    }
+    assert_eq!(created, 1);
+    let latest: ModelDetail = s.get_json(&format!("/api/models/{id}")).await;
+    assert_eq!(latest.version.number, 2);
+    s.stop().await;
+}

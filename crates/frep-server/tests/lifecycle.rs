@@ -200,3 +200,50 @@ async fn shutdown_cancels_a_running_job_and_returns() {
     assert_eq!(list.len(), frep_server::examples::EXAMPLES.len());
     s.stop().await;
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn every_acknowledged_save_survives_a_shutdown_in_the_middle() {
+    let dir = tempfile::tempdir().unwrap();
+    let s = Server::start(config(dir.path())).await;
+    let id = s.create("busy", SPHERE).await.model.id;
+    let url = s.url(&format!("/api/models/{id}/versions"));
+    let saves: Vec<_> = (0..16)
+        .map(|i| {
+            let (client, url) = (s.client.clone(), url.clone());
+            tokio::spawn(async move {
+                let body = SaveVersion {
+                    source: format!("-- save {i}\n"),
+                    params: vec![],
+                    message: format!("save {i}"),
+                    base: None,
+                    assets: vec![],
+                };
+                let r = client.post(url).json(&body).send().await.ok()?;
+                (r.status() == StatusCode::CREATED).then_some(())?;
+                r.json::<Version>().await.ok()
+            })
+        })
+        .collect();
+    // Stop while the saves are on their way.
+    s.stop().await;
+    let mut acknowledged = Vec::new();
+    for t in saves {
+        if let Some(v) = t.await.unwrap() {
+            acknowledged.push(v);
+        }
+    }
+    let s = Server::start(config(dir.path())).await;
+    for v in &acknowledged {
+        let back: Version = s
+            .get_json(&format!("/api/models/{id}/versions/{}", v.number))
+            .await;
+        assert_eq!(back.source, v.source, "acknowledged save {} kept", v.number);
+    }
+    // Versions are numbered without gaps, whatever got through.
+    let latest: ModelDetail = s.get_json(&format!("/api/models/{id}")).await;
+    assert!(latest.model.latest as usize > acknowledged.len());
+    for n in 1..=latest.model.latest {
+        let _: Version = s.get_json(&format!("/api/models/{id}/versions/{n}")).await;
+    }
+    s.stop().await;
+}
