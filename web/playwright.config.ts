@@ -3,6 +3,11 @@
  * Debian's Chromium (never a downloaded browser) with SwiftShader WebGL.
  * The global setup builds web/dist and starts `frep serve` on a free port
  * (or uses FREP_E2E_URL); the server serves the built studio itself.
+ *
+ * Run: `cargo build --release -p frep-cli && cd web && npx playwright test`
+ * (one file: `npx playwright test studio.spec.ts`). Environment:
+ * FREP_E2E_URL (use a running server), FREP_E2E_NO_BUILD=1 (keep web/dist),
+ * FREP_BIN (another frep binary), FREP_CHROMIUM (another Chromium).
  */
 import { defineConfig } from '@playwright/test';
 import { chromiumArgs, chromiumPath } from './tests/e2e/support/env';
