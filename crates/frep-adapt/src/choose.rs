@@ -74,7 +74,7 @@ impl Default for CostWeights {
             orbit: 2.0,
             edit: 0.5,
             min_orbit_fps: 20.0,
-            slow_orbit: 20.0,
+            slow_orbit: 50.0,
             patience_ms: 3000.0,
             slow_first: 1.0,
             // Still, view set, server mesh, 4a, 4b, volume.

@@ -13,7 +13,8 @@
 //!   edit that makes the current mode miss the target frame rate;
 //! * **after `downgrade_after_ms` (~2 s)** of a better mode being preferred
 //!   (by at least `switch_margin` of the cost) while the current mode fails
-//!   its targets (predicted orbit under the target frame rate);
+//!   its targets (orbit under the target frame rate, predicted or reported,
+//!   or edits slower than the weights' `patience_ms`);
 //! * **after `upgrade_after_ms` (~10 s)** of a better mode being preferred,
 //!   the whole time, while the current mode is fine, and only when the user
 //!   has been idle for `idle_before_upgrade_ms`.

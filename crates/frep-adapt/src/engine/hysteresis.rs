@@ -103,8 +103,12 @@ impl Engine {
             self.pending = None;
             return keep;
         }
-        let frame_target = 1000.0 / self.config.weights.min_orbit_fps;
-        let failing = cur.orbit_ms > frame_target || self.slow_since.is_some();
+        // Failing its targets: orbit under the frame rate (predicted or
+        // reported), or edits slower than a user's patience.
+        let w = &self.config.weights;
+        let failing = cur.orbit_ms > 1000.0 / w.min_orbit_fps
+            || cur.edit_ms > w.patience_ms
+            || self.slow_since.is_some();
         let immediate = trigger == Trigger::SlowFrames
             || (trigger == Trigger::Edit && failing)
             || (trigger == Trigger::Report && self.guess_replaced);
@@ -148,10 +152,15 @@ impl Engine {
             format!("frames stayed under {fps:.0} fps in {name}")
         } else if trigger == Trigger::Report && self.guess_replaced {
             format!("measured benchmarks replace the guesses {name} rested on")
+        } else if failing && cur.orbit_ms > 1000.0 / fps {
+            format!(
+                "{name}: orbit ≈ {:.0} fps, under {fps:.0}",
+                reason::fps(cur.orbit_ms)
+            )
         } else if failing {
             format!(
-                "{name} misses {fps:.0} fps (≈ {:.0} fps)",
-                reason::fps(cur.orbit_ms)
+                "{name}: an edit takes ≈ {}",
+                reason::duration_words(cur.edit_ms)
             )
         } else {
             format!(
