@@ -265,3 +265,28 @@ fn edits_slower_than_patience_downgrade_like_slow_frames() {
     );
     assert!(chosen(&d).edit_ms < 1_000.0, "{}", d.reason);
 }
+
+#[test]
+fn a_model_too_heavy_for_a_modest_gpu_is_not_ray_cast_there() {
+    // 2000 operations compile fine (not refused), but an integrated GPU
+    // cannot ray cast them at 20 fps even at a quarter of the resolution.
+    let laptop = client(
+        "ANGLE (Intel, Intel(R) UHD Graphics 620 Direct3D11)",
+        Some(3.0),
+        (1920, 1080, 1.0),
+        false,
+    );
+    let d = engine().connect(laptop, net(50.0, 20.0), model(2000), 0);
+    let gpu = prediction(&d, Mode::GpuRaycast);
+    assert!(gpu.feasible, "{:?}", gpu.refusal);
+    assert!(gpu.orbit_ms > 50.0, "{gpu:?}");
+    assert_ne!(d.mode, Mode::GpuRaycast, "{}", d.reason);
+    assert!(
+        chosen(&d).orbit_ms <= 50.0 || d.mode == Mode::Still,
+        "{}",
+        d.reason
+    );
+    // The workstation's GPU ray casts the same model faster.
+    let d = engine().connect(workstation(), lan(), model(2000), 0);
+    assert!(prediction(&d, Mode::GpuRaycast).orbit_ms < gpu.orbit_ms);
+}
