@@ -63,6 +63,8 @@ class AdaptiveViewer implements Viewer {
   private note: string | null = null;
   private model: ModelShow | null = null;
   private summary: CompileSummary | null = null;
+  /** The source `summary` belongs to. */
+  private summarySource: string | null = null;
   private request: AbortController | null = null;
   private requestStart = 0;
   private displayedOnce: Promise<void> = Promise.resolve();
@@ -141,7 +143,6 @@ class AdaptiveViewer implements Viewer {
   show(model: ModelShow): void {
     const prev = this.model;
     this.model = { ...model };
-    if (model.summary) this.summary = model.summary;
     if (!prev || prev.source !== model.source || prev.modelId !== model.modelId || prev.version !== model.version || !sameParams(prev.params, model.params))
       this.session?.open(model.modelId ?? null, model.version ?? null, model.source, model.params);
     void this.refresh();
@@ -320,10 +321,14 @@ class AdaptiveViewer implements Viewer {
     this.requestStart = performance.now();
     if (!this.resolveDisplayed) this.displayedOnce = new Promise((ok) => (this.resolveDisplayed = ok));
     this.root.dataset.state = 'loading';
-    let summary = model.summary ?? null;
+    // The server frames every artefact with the box detected at the default
+    // parameters (it stays put while a slider moves): so does the viewer.
+    // A given summary is used when its box cannot depend on parameters.
+    let summary = model.summary && model.summary.boundsOrigin !== 'extent' ? model.summary : null;
+    if (!summary && this.summary && this.summarySource === model.source) summary = this.summary;
     if (!summary) {
       try {
-        const res = await this.opts.api.compile({ source: model.source, params: model.params, body: null }, ac.signal);
+        const res = await this.opts.api.compile({ source: model.source, params: [], body: null }, ac.signal);
         if (ac.signal.aborted) return;
         if (!res.ok || !res.summary) {
           this.chrome.status.textContent = res.diagnostics[0]?.message ?? 'the model does not compile';
@@ -339,6 +344,7 @@ class AdaptiveViewer implements Viewer {
       }
     }
     this.summary = summary;
+    this.summarySource = model.source;
     this.drawDims();
     await this.showIn(this.wanted, model, summary, ac);
   }

@@ -8,6 +8,7 @@
  * Bundled by the spec with Vite and served through page.route.
  */
 import { Api } from '../../src/api/client';
+import { measureClient } from '../../src/measure/capabilities';
 import { createViewer, type Viewer } from '../../src/viewer/index';
 import { backgroundAt } from '../../src/viewer/scene';
 import type { CameraView, Mode } from '../../src/wire';
@@ -115,7 +116,6 @@ const harness = {
 
   /** The client's report as measured here. */
   async report(): Promise<unknown> {
-    const { measureClient } = await import('../../src/measure/capabilities');
     return measureClient();
   },
 };

@@ -29,8 +29,13 @@ import { repoRoot } from './support/server';
 const web = join(repoRoot, 'web');
 const SIZE = 256;
 const TOLERANCE = 40;
-/** A lopsided model (a sphere and a smaller one beside it), radius a[1]: views differ by camera. */
+/**
+ * A lopsided model (a sphere and a smaller one beside it), radius a[1]:
+ * views differ by camera. The server frames every artefact with the box at
+ * the default parameters, hence the default 0.8 (smaller radii stay inside).
+ */
 const SOURCE = [
+  '-- param: 1 radius 0.8 0.3 1',
   'my_model(x[3], a[1])',
   '{',
   '  array c[3], d[3];',
@@ -87,18 +92,30 @@ async function routeHarness(page: Page): Promise<void> {
       return route.continue();
     }
   });
-  await page.route('**/__modes.html', (route) =>
-    route.fulfill({
-      contentType: 'text/html',
-      body: '<!doctype html><html><head><meta charset="utf-8"></head><body><script type="module" src="/__modes/harness.js"></script></body></html>',
-    }),
-  );
 }
 
 /** Opens the harness and mounts the viewer (mode forced or null), then shows the model. */
 async function openViewer(page: Page, mode: Mode | null, params: number[] = [0.8]): Promise<void> {
+  if (process.env.FREP_E2E_DEBUG) {
+    page.on('console', (m) => console.log('console:', m.type(), m.text()));
+    page.on('websocket', (ws) => {
+      ws.on('framesent', (f) => console.log('ws up:', String(f.payload).slice(0, 300)));
+      ws.on('framereceived', (f) => console.log('ws down:', typeof f.payload === 'string' ? f.payload.slice(0, 300) : `binary ${f.payload.length} B`));
+      ws.on('close', () => console.log('ws closed'));
+    });
+  }
   await routeHarness(page);
-  await page.goto(`${serverUrl()}/__modes.html`);
+  // The document must come from the server itself: a route-fulfilled page
+  // counts as outside the local network, and Chromium's local-network checks
+  // then refuse its WebSocket to 127.0.0.1. Any server page will do.
+  await page.goto(`${serverUrl()}/api/health`);
+  await page.evaluate(() => {
+    document.body.replaceChildren();
+    const s = document.createElement('script');
+    s.type = 'module';
+    s.src = '/__modes/harness.js';
+    document.head.append(s);
+  });
   await page.waitForFunction(() => 'frepModes' in window);
   await page.evaluate(([s, m, src, p]) => {
     const h = (window as any).frepModes;
@@ -129,6 +146,7 @@ async function displayed(page: Page, mode: Mode | null, after = 0): Promise<Stat
 }
 
 async function displayMask(page: Page): Promise<{ width: number; height: number; mask: number[] }> {
+  if (process.env.FREP_E2E_DEBUG) await page.screenshot({ path: `/tmp/modes-${Date.now()}.png` });
   const m = await page.evaluate((t) => (window as any).frepModes.displayMask(t), TOLERANCE);
   expect(m).not.toBeNull();
   return m;

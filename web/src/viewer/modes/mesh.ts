@@ -137,19 +137,28 @@ class MeshView implements ModeView {
   private replace(scene: THREE.Object3D): void {
     this.clear();
     const group = new THREE.Group();
+    // The glb's node transforms stay on the nodes: quantized positions
+    // (integers, KHR_mesh_quantization) must not be transformed in place.
+    const meshes: THREE.Mesh[] = [];
     scene.traverse((o) => {
-      if (!(o instanceof THREE.Mesh)) return;
+      if (o instanceof THREE.Mesh) meshes.push(o);
+    });
+    for (const o of meshes) {
       const geom = o.geometry as THREE.BufferGeometry;
-      o.updateWorldMatrix(true, false);
-      geom.applyMatrix4(o.matrixWorld);
       const colored = !!geom.getAttribute('color');
       const mat = colored ? this.surface.clone() : this.surface;
       if (colored) {
         mat.vertexColors = true;
         mat.color.setRGB(1, 1, 1);
       }
-      group.add(new THREE.Mesh(geom, mat), new THREE.Mesh(geom, this.cap));
-    });
+      o.material = mat;
+      const cap = new THREE.Mesh(geom, this.cap);
+      cap.position.copy(o.position);
+      cap.quaternion.copy(o.quaternion);
+      cap.scale.copy(o.scale);
+      o.parent?.add(cap);
+    }
+    group.add(scene);
     this.group = group;
     this.stage.scene.add(group);
     this.applySection();

@@ -5,7 +5,9 @@
  * camera goes to the session and the server streams frames (lower
  * resolution while moving), shown latest-only and acknowledged. Without a
  * session, moving frames are HTTP stills at the moving scale, one at a
- * time. When the camera stops, a full-resolution still replaces them.
+ * time. When the camera stops, a full-resolution HTTP still replaces them
+ * (streamed frames are not shown at rest: they carry no model identity, so
+ * a late one could belong to the previous edit).
  * The previous picture stays on screen until the next one is decoded.
  */
 import type { CameraView, ImageEncoding, Mode } from '../../wire';
@@ -45,7 +47,8 @@ class StillView implements ModeView {
     this.frames = new LatestFrames<ReceivedFrame>(
       (f) => this.drawFrame(f),
       (f) => {
-        const latency = f.askedAt === null ? 0 : performance.now() - f.askedAt;
+        // Unknown asker (a frame the server sent on its own): from its arrival.
+        const latency = performance.now() - (f.askedAt ?? f.arrivedAt);
         this.ctx.session?.frameAck(f.header.seq, latency);
         this.ctx.frame();
       },
@@ -73,12 +76,10 @@ class StillView implements ModeView {
     }
     // The still of a resting camera comes over HTTP (cached by content), after a short calm.
     if (this.stillTimer) clearTimeout(this.stillTimer);
-    // With a session the server streams the resting frame itself; HTTP is the backstop.
-    const streamed = !!s && s.state === 'open';
     this.stillTimer = setTimeout(() => {
       this.stillTimer = null;
       if (!this.ctx.moving()) this.refreshStill();
-    }, moving ? 250 : streamed ? 400 : 30);
+    }, moving ? 250 : 30);
   }
 
   setParams(): void {}
@@ -163,13 +164,13 @@ class StillView implements ModeView {
   }
 
   private async drawFrame(f: ReceivedFrame): Promise<boolean> {
-    // A late frame of an old camera never replaces the still of the camera at rest.
-    if (!this.ctx.moving() && !sameCamera(f.header.camera, this.ctx.camera())) return false;
+    // Streamed frames are for orbiting only: at rest the HTTP still is shown.
+    // (Frames carry no model or parameters, so a late one could be of the
+    // last edit; the still of the camera at rest is content-addressed.)
+    if (!this.ctx.moving()) return false;
     const blob = new Blob([f.payload as BlobPart], { type: frameMime(f.header.format) });
     const img = await decodeImage(blob);
-    // A full-size resting frame counts as the still; a moving frame does not.
-    const full = !f.header.moving;
-    this.draw(img, f.header.camera, !full);
+    this.draw(img, f.header.camera, true);
     return true;
   }
 
