@@ -72,22 +72,43 @@ pub fn parse_grid(s: &str, bounds: &[f64; 6]) -> Result<Resolution, String> {
 /// Cells of a scan: 2^SCAN_DEPTH per axis.
 const SCAN_DEPTH: u32 = 5;
 
+/// The work [`detect`] may do, all scans together, in interval evaluations
+/// times the tape's length (interval operations cost 7–230 ns each: 0.1–1 s at
+/// most, tens of milliseconds for the corpus's models). Without it, a model
+/// whose interval bounds prune nothing (noise terms, machine-generated chains
+/// of `atan2`) refined every scan to the full depth: seconds, or minutes for a
+/// long tape.
+const WORK_BUDGET: usize = 8_000_000;
+
+/// Interval evaluations of one scan at most (a short tape's budget is
+/// otherwise spent on one scan).
+const SCAN_EVALS: usize = 200_000;
+
 struct Scan<'a> {
     ev: IntervalEval,
     inputs: &'a Inputs,
     lo: [f64; 3],
     hi: [f64; 3],
-    evals: usize,
+    /// Interval evaluations left to this scan.
+    evals_left: usize,
+    /// Stop at the first solid cell on the faces of this cube (a scan that
+    /// only asks whether the solid lies strictly inside).
+    stop_at_faces: Option<Corners>,
+    /// Whether it stopped so.
+    touched: bool,
 }
 
 impl Scan<'_> {
     fn visit(&mut self, lo: [f64; 3], hi: [f64; 3], depth: u32) {
-        self.evals += 1;
-        if self.evals > 200_000 {
-            // Give up refining: count the cell as solid.
+        if self.touched {
+            return;
+        }
+        if self.evals_left == 0 {
+            // Out of work: count the cell as solid (the box only grows).
             self.record(lo, hi);
             return;
         }
+        self.evals_left -= 1;
         let iv = self.ev.eval(
             Interval::new(lo[0], hi[0]),
             Interval::new(lo[1], hi[1]),
@@ -110,6 +131,11 @@ impl Scan<'_> {
     }
 
     fn record(&mut self, lo: [f64; 3], hi: [f64; 3]) {
+        if let Some((cl, ch)) = self.stop_at_faces {
+            if (0..3).any(|k| lo[k] <= cl[k] || hi[k] >= ch[k]) {
+                self.touched = true;
+            }
+        }
         for k in 0..3 {
             self.lo[k] = self.lo[k].min(lo[k]);
             self.hi[k] = self.hi[k].max(hi[k]);
@@ -117,40 +143,65 @@ impl Scan<'_> {
     }
 }
 
+/// A box's two corners.
+type Corners = ([f64; 3], [f64; 3]);
+
 /// Where the solid may be, within `[lo, hi]`, by interval arithmetic on a 32³ octree:
-/// `None` when nowhere.
+/// `None` when nowhere. Spends at most `budget` interval evaluations (and takes them off
+/// it); cells left when it runs out count as solid. With `fit`, the scan stops at the first
+/// solid cell on the box's faces (the solid is not strictly inside: its box is not needed).
 fn scan(
-    model: &Model,
+    ev: IntervalEval,
     inputs: &Inputs,
     lo: [f64; 3],
     hi: [f64; 3],
-) -> Option<([f64; 3], [f64; 3])> {
+    fit: bool,
+    budget: &mut usize,
+) -> (IntervalEval, Option<Corners>) {
+    let allowed = (*budget).min(SCAN_EVALS);
     let mut s = Scan {
-        ev: IntervalEval::new(&model.tape()),
+        ev,
         inputs,
         lo: [f64::INFINITY; 3],
         hi: [f64::NEG_INFINITY; 3],
-        evals: 0,
+        evals_left: allowed,
+        stop_at_faces: fit.then_some((lo, hi)),
+        touched: false,
     };
     s.visit(lo, hi, 0);
-    (s.lo[0] <= s.hi[0]).then_some((s.lo, s.hi))
+    *budget -= allowed - s.evals_left;
+    let found = (s.lo[0] <= s.hi[0]).then_some((s.lo, s.hi));
+    (s.ev, found)
 }
 
 /// Detects a box around the model's solid: cubes `±2^k` (k = 0..=10) are scanned with
 /// interval arithmetic until the solid lies strictly inside one; the box is then tightened by
 /// a second scan and grown by 5 % on each side. `None` when no solid is found or when it
 /// reaches even `±1024` (an unbounded solid such as a half-space): use an explicit box then
-/// (hfp's default is [`HFP_DEFAULT`]).
+/// (hfp's default is [`HFP_DEFAULT`]). All scans together do a bounded amount of work
+/// ([`WORK_BUDGET`]): where intervals prune nothing, the budget runs out, the cells left
+/// count as solid and the answer is `None` within milliseconds.
 pub fn detect(model: &Model, inputs: &Inputs) -> Option<[f64; 6]> {
+    let tape = model.tape();
+    let mut budget = WORK_BUDGET / tape.len().max(1);
+    let mut ev = IntervalEval::new(&tape);
     for k in 0..=10 {
         let l = (1u32 << k) as f64;
-        let Some((lo, hi)) = scan(model, inputs, [-l; 3], [l; 3]) else {
+        let (e, found) = scan(ev, inputs, [-l; 3], [l; 3], true, &mut budget);
+        ev = e;
+        let Some((lo, hi)) = found else {
             continue;
         };
         if (0..3).any(|a| lo[a] <= -l || hi[a] >= l) {
+            if budget == 0 {
+                // Every larger cube would only be counted solid whole.
+                return None;
+            }
             continue;
         }
-        let (lo, hi) = scan(model, inputs, lo, hi).unwrap_or((lo, hi));
+        let (lo, hi) = scan(ev, inputs, lo, hi, false, &mut budget)
+            .1
+            .unwrap_or((lo, hi));
         let pad = (0..3).map(|a| hi[a] - lo[a]).fold(0.0f64, f64::max) * 0.05;
         return Some([
             lo[0] - pad,
@@ -254,5 +305,38 @@ mod tests {
         assert!(b[1] < -0.1 && b[1] > -0.2, "{b:?}");
         let half = Model::compile("my_model(x[3], a[1]) { my_model = x[1]; }").unwrap();
         assert_eq!(detect(&half, &Inputs::default()), None);
+    }
+
+    #[test]
+    fn frames_a_noisy_offset_sphere_by_its_extent() {
+        // A sphere of radius 3 at (5, 0, 0) with a noise term of amplitude at most
+        // (1 + 1/1.17)^3 ≈ 6.4 in the field: the solid reaches at most radius
+        // sqrt(9 + 6.4) ≈ 3.93 from the centre.
+        let src = "my_model(x[3], a[1]) {\n my_model = 9 - ((x[1]-5)^2 + x[2]^2 + x[3]^2)\n   + hfNoiseG(x, 1, 2, 0.5);\n}";
+        let m = Model::compile(src).unwrap();
+        let (b, origin) = model_box(src, &m, &Inputs::default());
+        assert_eq!(origin, BoxOrigin::Extent);
+        // Holds the sphere (the noise adds or takes away), hugs it within 20 %.
+        assert!(b[0] <= 2.0 && b[0] > 0.2, "{b:?}");
+        assert!(b[3] >= 8.0 && b[3] < 9.8, "{b:?}");
+        for k in 1..3 {
+            assert!(b[k] <= -3.0 && b[k] > -4.8, "{b:?}");
+            assert!(b[k + 3] >= 3.0 && b[k + 3] < 4.8, "{b:?}");
+        }
+    }
+
+    #[test]
+    fn gives_up_quickly_where_intervals_prune_nothing() {
+        // atan2 chains over powers (the corpus's broken exports): the interval
+        // bounds are everywhere ambiguous, the budget runs out, no box.
+        let src = "my_model(x[3], a[1]) { t = atan2(x[1]^x[2], max(x[3], 0.5)^x[1]);\n my_model = atan2(t, x[2]^x[3]) - 1; }";
+        let m = Model::compile(src).unwrap();
+        let (b, origin) = model_box(src, &m, &Inputs::default());
+        assert_eq!((b, origin), (HFP_DEFAULT, BoxOrigin::Default));
+        let with_line = format!("-- bounds: -1,-2,-3,1,2,3\n{src}");
+        assert_eq!(
+            model_box(&with_line, &m, &Inputs::default()),
+            ([-1.0, -2.0, -3.0, 1.0, 2.0, 3.0], BoxOrigin::Comment)
+        );
     }
 }
