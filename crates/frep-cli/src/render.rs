@@ -44,7 +44,7 @@ pub struct RenderArgs {
     #[arg(long, allow_hyphen_values = true)]
     pub elevations: Option<String>,
     /// Model box `x0,y0,z0,x1,y1,z1` (default: the model's `-- bounds:`
-    /// comment line, else HyperFun's [-10,10]³).
+    /// comment line, else its detected extent, else HyperFun's [-10,10]³).
     #[arg(long, allow_hyphen_values = true)]
     pub bounds: Option<String>,
     /// JPEG / WebP quality 1-100.
