@@ -86,7 +86,25 @@ const harness = {
     return { text: b.textContent ?? '', detail: b.title, mode: b.dataset.mode ?? '' };
   },
 
-  /** The displayed picture's size in device pixels and its silhouette. */
+  /** Hides the viewer's controls (badge, tools, panel) for a screenshot of the picture alone. */
+  hideChrome(hide: boolean): void {
+    for (const el of box!.querySelectorAll<HTMLElement>('.frep-badge, .frep-tools, .frep-section, .frep-measure-panel, .frep-status, .frep-probe'))
+      el.style.visibility = hide ? 'hidden' : '';
+  },
+
+  /** The silhouette of a PNG screenshot (base64) of the viewer. */
+  async pngMask(png: string, tol: number): Promise<{ width: number; height: number; mask: number[] }> {
+    const bytes = Uint8Array.from(atob(png), (c) => c.charCodeAt(0));
+    const img = await createImageBitmap(new Blob([bytes], { type: 'image/png' }));
+    const c = document.createElement('canvas');
+    c.width = img.width;
+    c.height = img.height;
+    const g = c.getContext('2d', { willReadFrequently: true })!;
+    g.drawImage(img, 0, 0);
+    return { width: img.width, height: img.height, mask: silhouette(g.getImageData(0, 0, img.width, img.height).data, img.width, img.height, tol) };
+  },
+
+  /** The displayed picture's size in device pixels and its silhouette, read from the mode's canvas. */
   displayMask(tol: number): { width: number; height: number; mask: number[] } | null {
     const root = box!.querySelector<HTMLElement>('[data-testid=viewer]')!;
     const mode = root.dataset.mode;
