@@ -73,6 +73,7 @@ struct Inner {
     groups: Mutex<HashMap<SupersedeGroup, String>>,
     workers: Arc<Semaphore>,
     computations: AtomicU64,
+    cancellations: AtomicU64,
 }
 
 /// The artefact service (cheap to clone; clones share everything).
@@ -101,6 +102,7 @@ impl Artefacts {
                 flights: Mutex::new(HashMap::new()),
                 groups: Mutex::new(HashMap::new()),
                 computations: AtomicU64::new(0),
+                cancellations: AtomicU64::new(0),
             }),
         })
     }
@@ -315,6 +317,12 @@ impl Artefacts {
         self.inner.computations.load(Ordering::Relaxed)
     }
 
+    /// Jobs ended by a cancel since the start (superseded, or nobody
+    /// waited any more).
+    pub fn cancellations(&self) -> u64 {
+        self.inner.cancellations.load(Ordering::Relaxed)
+    }
+
     /// Jobs running or waiting for a worker.
     pub fn in_flight(&self) -> usize {
         lock(&self.inner.flights).len()
@@ -373,6 +381,9 @@ async fn drive(inner: Arc<Inner>, key: String, recipe: Recipe, flight: Arc<Fligh
         }
         _ => Err(ArtefactError::Cancelled),
     };
+    if matches!(outcome, Err(ArtefactError::Cancelled)) {
+        inner.cancellations.fetch_add(1, Ordering::Relaxed);
+    }
     flight.finish(outcome);
     let mut flights = lock(&inner.flights);
     if flights.get(&key).is_some_and(|f| Arc::ptr_eq(f, &flight)) {
