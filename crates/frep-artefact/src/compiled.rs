@@ -14,16 +14,17 @@
 //! gives its slider; without one, `a[i]` has default 0 and range
 //! `default ± max(1, |default|)`.
 //!
-//! The graph hash is BLAKE3 over a canonical listing of the value-and-
-//! attribute tape (each node's operation, operand indices and constant bits
-//! in evaluation order, then the outputs) and the declared dimensions:
-//! sources that compile to the same graph share it (comments, spacing,
-//! names and folded constants do not count).
+//! The graph hash is BLAKE3 over the declared dimensions and the outputs of
+//! the value-and-attribute tape, each node hashed as a Merkle tree (its
+//! operation and constant bits, then its operands' hashes): sources that
+//! compile to the same expressions share it, whatever the order the
+//! compiler created the nodes in (comments, spacing, names, temporaries and
+//! folded constants do not count).
 
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex, OnceLock};
 
-use frep_core::{CompileOptions, Inputs, Model};
+use frep_core::{CompileOptions, Inputs, Model, NodeId};
 use frep_glsl::{shader_for_model, ShaderOptions};
 use frep_mesh::poly::bounds::{model_box, BoxOrigin};
 use frep_render::{Aabb, ModelCaster, RenderSettings};
@@ -224,13 +225,22 @@ pub fn graph_hash(model: &Model) -> String {
         )
         .as_bytes(),
     );
-    // Debug of a node lists its operation, operand indices and constant
-    // bits: a stable, exact canonical form within this build.
+    // Each node's hash covers its operation (Debug with operand ids zeroed:
+    // the operation and constant bits) and its operands' hashes, so the
+    // order the compiler happened to create nodes in does not count.
+    let mut hashes: Vec<[u8; 32]> = Vec::with_capacity(tape.nodes.len());
     for n in &tape.nodes {
-        h.update(format!("{n:?}\n").as_bytes());
+        let mut nh = blake3::Hasher::new();
+        nh.update(format!("{:?}", n.map_children(|_| NodeId(0))).as_bytes());
+        for c in n.children() {
+            // Children come before their parents in a tape; an id out of
+            // range cannot occur, and would only change the hash.
+            nh.update(hashes.get(c.index()).map_or(&[0u8; 32], |x| x));
+        }
+        hashes.push(*nh.finalize().as_bytes());
     }
     for o in &tape.outputs {
-        h.update(format!("out {}\n", o.0).as_bytes());
+        h.update(hashes.get(o.index()).map_or(&[0u8; 32], |x| x));
     }
     h.finalize().to_hex().to_string()
 }
