@@ -256,3 +256,41 @@ fn the_disk_cache_evicts_the_least_recently_used() {
     assert!(c.contains(&key(0)) && !c.contains(&key(3)));
     assert_eq!(c.get(&key(0)).unwrap().unwrap().1, meta(800));
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 4)]
+async fn progress_is_pushed_until_done() {
+    let dir = tempfile::tempdir().unwrap();
+    let a = service(&dir, 1, 4);
+    let r = a
+        .request(
+            example("m3_gyroid.hf"),
+            &[],
+            ArtefactSpec::Mesh { depth: 6 },
+            None,
+        )
+        .unwrap();
+    assert_eq!(a.progress(&r.key), None);
+    let job = {
+        let (a, k) = (a.clone(), r.key.clone());
+        tokio::spawn(async move { a.get(&k).await })
+    };
+    until("the job starts", || a.computations() == 1).await;
+    let mut rx = a
+        .subscribe(&r.key, Duration::from_millis(10))
+        .expect("running");
+    let mut seen = vec![*rx.borrow_and_update()];
+    while rx.changed().await.is_ok() {
+        let v = *rx.borrow_and_update();
+        seen.push(v);
+        if v == 1.0 {
+            break;
+        }
+    }
+    assert_eq!(seen.last(), Some(&1.0));
+    assert!(seen.iter().all(|v| (0.0..=1.0).contains(v)));
+    assert!(seen.iter().any(|v| *v > 0.0 && *v < 1.0), "{seen:?}");
+    let body = job.await.unwrap().unwrap();
+    assert_eq!(&body.bytes[..4], b"glTF");
+    until("stored", || a.in_flight() == 0).await;
+    assert_eq!(a.progress(&r.key), Some(1.0));
+}
