@@ -29,6 +29,11 @@ export class Emitter<E extends Record<string, unknown[]>> {
     }
   }
 
+  /** Whether `event` has a listener. */
+  has<K extends keyof E>(event: K): boolean {
+    return (this.map.get(event)?.size ?? 0) > 0;
+  }
+
   /** Removes every listener. */
   clear(): void {
     this.map.clear();

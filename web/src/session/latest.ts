@@ -2,7 +2,9 @@
  * Latest-only delivery of streamed frames: while one frame decodes, newer
  * arrivals replace the waiting one (only the newest waits), and a frame
  * older than the one last shown is dropped. The display never goes
- * backwards and never queues stale frames; every shown frame is acked.
+ * backwards and never queues stale frames. Every frame ends in exactly one
+ * of `onShown` and `onDropped` (the server counts frames in flight until
+ * the client answers for them).
  */
 
 /** A frame with its sequence number. */
@@ -26,6 +28,7 @@ export class LatestFrames<F extends Sequenced> {
   constructor(
     private readonly showFrame: ShowFrame<F>,
     private readonly onShown: (frame: F) => void = () => {},
+    private readonly onDropped: (frame: F) => void = () => {},
   ) {}
 
   /** The sequence number last shown (-1: none). */
@@ -36,15 +39,15 @@ export class LatestFrames<F extends Sequenced> {
   /** A frame arrived. */
   push(frame: F): void {
     if (frame.seq <= this.lastShown) {
-      this.dropped++;
+      this.drop(frame);
       return;
     }
     if (this.waiting) {
       if (this.waiting.seq > frame.seq) {
-        this.dropped++;
+        this.drop(frame);
         return;
       }
-      this.dropped++;
+      this.drop(this.waiting);
     }
     this.waiting = frame;
     if (!this.busy) void this.pump();
@@ -56,6 +59,11 @@ export class LatestFrames<F extends Sequenced> {
     this.lastShown = -1;
   }
 
+  private drop(f: F): void {
+    this.dropped++;
+    this.onDropped(f);
+  }
+
   private async pump(): Promise<void> {
     this.busy = true;
     try {
@@ -63,7 +71,7 @@ export class LatestFrames<F extends Sequenced> {
         const f = this.waiting;
         this.waiting = null;
         if (f.seq <= this.lastShown) {
-          this.dropped++;
+          this.drop(f);
           continue;
         }
         let ok = false;
@@ -76,7 +84,7 @@ export class LatestFrames<F extends Sequenced> {
           this.lastShown = f.seq;
           this.shown++;
           this.onShown(f);
-        }
+        } else this.drop(f);
       }
     } finally {
       this.busy = false;

@@ -376,7 +376,10 @@ export class Session {
     }
     this.camerasInFlight = Math.max(0, this.camerasInFlight - 1);
     const asked = this.askedAt(header.camera);
-    this.events.emit('frame', { seq: header.seq, header, payload, arrivedAt: now, askedAt: asked });
+    // Nobody shows frames now (another mode): answer at once, so the
+    // server's count of frames in flight does not stall its stream.
+    if (!this.events.has('frame')) this.frameAck(header.seq, 0);
+    else this.events.emit('frame', { seq: header.seq, header, payload, arrivedAt: now, askedAt: asked });
     // A frame frees the pipe: a camera waiting for it goes now (or at its interval).
     if (this.cameraTimer !== null) {
       this.clearTimer(this.cameraTimer);

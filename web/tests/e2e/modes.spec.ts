@@ -241,6 +241,49 @@ test.describe('forced modes', () => {
   });
 });
 
+test('orbiting in mode 1 streams frames, acked, and the resting still matches', async ({ page }) => {
+  const up: { type: string }[] = [];
+  let framesDown = 0;
+  page.on('websocket', (ws) => {
+    ws.on('framesent', (f) => {
+      if (typeof f.payload === 'string') up.push(JSON.parse(f.payload));
+    });
+    ws.on('framereceived', (f) => {
+      if (typeof f.payload !== 'string') framesDown++;
+    });
+  });
+  await openViewer(page, 'still');
+  await expect.poll(async () => (await state(page)).session, { timeout: 30_000 }).toBe('open');
+  await displayed(page, 'still');
+  const before = await camera(page);
+  const box = (await page.locator('[data-testid=viewer]').boundingBox())!;
+  const x = box.x + box.width / 2;
+  const y = box.y + box.height / 2;
+  await page.mouse.move(x, y);
+  await page.mouse.down();
+  for (let i = 1; i <= 20; i++) {
+    await page.mouse.move(x + i * 4, y + i, { steps: 1 });
+    await page.waitForTimeout(40);
+  }
+  await page.mouse.up();
+  const after = await camera(page);
+  expect(after.yaw).not.toBeCloseTo(before.yaw, 3);
+  expect(after.pitch).not.toBeCloseTo(before.pitch, 3);
+  const cams = up.filter((m) => m.type === 'camera') as unknown as { moving: boolean }[];
+  expect(cams.length).toBeGreaterThan(2);
+  expect(cams.some((c) => c.moving)).toBe(true);
+  // Frames came down and were acknowledged after drawing.
+  await expect.poll(() => up.filter((m) => m.type === 'frameAck').length, { timeout: 30_000 }).toBeGreaterThan(0);
+  expect(framesDown).toBeGreaterThan(0);
+  // At rest, the still of the new camera matches the server's reference.
+  await expect
+    .poll(async () => {
+      const m = await displayMask(page);
+      return iou(m.mask, await referenceMask(page, [0.8], m.width, m.height));
+    }, { timeout: 60_000 })
+    .toBeGreaterThanOrEqual(0.95);
+});
+
 test.describe('emulated clients, the server decides', () => {
   test('desktop without WebGL: a server image mode, matching the reference', async () => {
     const browser: Browser = await chromium.launch({ executablePath: chromiumPath, args: [...chromiumArgs, '--disable-webgl', '--disable-3d-apis'] });

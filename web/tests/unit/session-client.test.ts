@@ -163,6 +163,17 @@ describe('session client', () => {
     expect(frames[0].askedAt).toBe(100);
   });
 
+  it('answers frames at once when nobody shows them', async () => {
+    const h = harness();
+    h.s.connect();
+    const ws = h.sockets[0];
+    ws.open();
+    await flush();
+    const cam = { yaw: 0, pitch: 0, fov: 30, zoom: 1, pan: [0, 0, 0] as [number, number, number] };
+    ws.binary(encodeBinary({ type: 'frame', seq: 9, camera: cam, width: 8, height: 8, format: 'jpeg', serverMs: 1, moving: false }, new Uint8Array([1])));
+    expect(ws.sent.find((m) => m.type === 'frameAck')).toEqual({ type: 'frameAck', seq: 9, latencyMs: 0 });
+  });
+
   it('reconnects with backoff and sends hello, override and open again', async () => {
     const h = harness();
     h.s.connect();

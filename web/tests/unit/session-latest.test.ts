@@ -67,6 +67,21 @@ describe('latest-only frames', () => {
     expect(shown).toEqual([2]);
   });
 
+  it('every frame is either shown or dropped, exactly once', async () => {
+    const c = controlled();
+    const shown: number[] = [];
+    const dropped: number[] = [];
+    const pump = new LatestFrames<F>(c.show, (f) => shown.push(f.seq), (f) => dropped.push(f.seq));
+    for (const seq of [1, 2, 3, 2, 5]) pump.push({ seq });
+    c.finish[0]();
+    await tick();
+    c.finish[1]();
+    await tick();
+    pump.push({ seq: 4 });
+    expect(shown).toEqual([1, 5]);
+    expect(dropped.sort()).toEqual([2, 2, 3, 4]);
+  });
+
   it('reset starts the order again (a new model)', async () => {
     const shown: number[] = [];
     const pump = new LatestFrames<F>(async () => true, (f) => shown.push(f.seq));

@@ -52,6 +52,9 @@ class StillView implements ModeView {
         this.ctx.session?.frameAck(f.header.seq, latency);
         this.ctx.frame();
       },
+      // A frame not shown (superseded, or arriving at rest) is answered at
+      // once: the server counts frames in flight until the client answers.
+      (f) => this.ctx.session?.frameAck(f.header.seq, performance.now() - f.arrivedAt),
     );
     if (ctx.session) this.offFrame = ctx.session.on('frame', (f) => this.frames.push(f));
   }
