@@ -5,7 +5,7 @@
  */
 import { readFileSync } from 'node:fs';
 import { expect, test } from '@playwright/test';
-import { createModel, sphereSource, uniqueName } from './support/api';
+import { createModel, uniqueName } from './support/api';
 import { openModel } from './support/studio';
 
 function checkFile(format: string, b: Buffer): void {
@@ -42,8 +42,22 @@ function checkFile(format: string, b: Buffer): void {
   }
 }
 
+/** A red sphere: colours in s[1..3], so the PLY carries vertex colours. */
+const RED_SPHERE = [
+  'my_model(x[3], a[1], s[3])',
+  '{',
+  '  array c[3];',
+  '  c = [0, 0, 0];',
+  '  s[1] = 0.9;',
+  '  s[2] = 0.2;',
+  '  s[3] = 0.1;',
+  '  my_model = hfSphere(x, c, 0.8);',
+  '}',
+  '',
+].join('\n');
+
 test('each export downloads a file that parses', async ({ page }) => {
-  const d = await createModel(uniqueName('export'), sphereSource('0.8'));
+  const d = await createModel(uniqueName('export'), RED_SPHERE);
   await openModel(page, d.model.id, 'hfSphere');
   await page.locator('.exports > summary').click();
   await page.getByLabel('Export depth').fill('4');
