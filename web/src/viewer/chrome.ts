@@ -49,8 +49,8 @@ export class ViewerChrome {
     this.menu.title = 'Delivery mode: automatic (the server decides) or forced';
     this.menu.addEventListener('change', () => act.override((this.menu.value || null) as Mode | null));
     this.badge.append(this.title, this.reason, el('br', ''), this.menu);
-    this.buildTools();
     this.buildSection();
+    this.buildTools();
   }
 
   /** Updates the badge. */
@@ -103,7 +103,8 @@ export class ViewerChrome {
     }, 'section-toggle');
     const dims = this.toggle('dims', 'Dimensions (model box)', (v) => this.act.dimensions(v), 'dims-toggle');
     const probe = this.toggle('probe', 'Click the model to probe a point', (v) => this.act.probe(v), 'probe-toggle');
-    this.tools.append(views, fit, this.projBtn, section, dims, probe);
+    // The section's controls wrap under the buttons, inside the toolbar.
+    this.tools.append(views, fit, this.projBtn, section, dims, probe, this.sectionBox);
   }
 
   private axis = el('select', '');

@@ -107,7 +107,7 @@ class AdaptiveViewer implements Viewer {
     });
     this.dims.element.style.display = 'none';
     this.panel = opts.panel === false ? null : new MeasurePanel();
-    this.root.append(this.layers, this.dims.element, this.input, this.chrome.badge, this.chrome.tools, this.chrome.sectionBox, this.chrome.status, this.chrome.probeOut);
+    this.root.append(this.layers, this.dims.element, this.input, this.chrome.badge, this.chrome.tools, this.chrome.status, this.chrome.probeOut);
     if (this.panel) this.root.append(this.panel.element);
     container.append(this.root);
     this.controls = bindControls(this.input, {
@@ -301,13 +301,21 @@ class AdaptiveViewer implements Viewer {
     this.dims.draw(this.cam, this.bounds(), width, height);
   }
 
+  /**
+   * The plane across `axis` at fraction `t` of the box. The half towards
+   * the eye is the one cut away, so the cut face looks at the user
+   * (`flip` keeps that half instead).
+   */
   private axisSection(axis: 'x' | 'y' | 'z', t: number, flip: boolean): SectionPlane {
     const k = axis === 'x' ? 0 : axis === 'y' ? 1 : 2;
     const b = this.bounds();
+    const { width, height } = this.size();
+    const towardsEye = -cameraFrame(this.cam, b, width, height).forward[k];
+    const sign = (towardsEye >= 0 ? 1 : -1) * (flip ? -1 : 1);
     const n: [number, number, number] = [0, 0, 0];
-    n[k] = flip ? -1 : 1;
+    n[k] = sign;
     const at = b[k] + t * (b[k + 3] - b[k]);
-    return { normal: n, offset: flip ? -at : at };
+    return { normal: n, offset: sign * at };
   }
 
   // ---- showing ----

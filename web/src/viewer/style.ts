@@ -14,11 +14,13 @@ const CSS = `
 .frep-viewer .frep-badge { position: absolute; left: 8px; top: 8px; max-width: 60%; background: rgba(0,0,0,.55); border-radius: 6px; padding: 4px 8px; }
 .frep-viewer .frep-badge b { display: block; }
 .frep-viewer .frep-badge .frep-reason { opacity: .85; white-space: normal; }
-.frep-viewer .frep-badge select { margin-top: 4px; }
+.frep-viewer .frep-badge select { margin-top: 4px; font: inherit; background: rgba(0,0,0,.55); color: inherit; border: 1px solid rgba(255,255,255,.2); border-radius: 4px; }
 .frep-viewer .frep-tools { position: absolute; right: 8px; top: 8px; display: flex; gap: 4px; flex-wrap: wrap; justify-content: flex-end; max-width: 50%; }
 .frep-viewer .frep-tools button, .frep-viewer .frep-tools select { font: inherit; background: rgba(0,0,0,.55); color: inherit; border: 1px solid rgba(255,255,255,.2); border-radius: 4px; padding: 2px 6px; }
 .frep-viewer .frep-tools button[aria-pressed=true] { background: rgba(80,140,255,.6); }
-.frep-viewer .frep-section { position: absolute; right: 8px; top: 40px; background: rgba(0,0,0,.55); padding: 4px; border-radius: 4px; }
+.frep-viewer .frep-section { flex-basis: 100%; display: flex; justify-content: flex-end; gap: 4px; }
+.frep-viewer .frep-section[hidden] { display: none; }
+.frep-viewer .frep-section > * { background: rgba(0,0,0,.55); }
 .frep-viewer .frep-measure-panel { position: absolute; right: 8px; bottom: 8px; background: rgba(0,0,0,.55); border-radius: 6px; padding: 4px; }
 .frep-viewer .frep-measure-legend { display: flex; gap: 8px; }
 .frep-viewer .frep-probe { position: absolute; left: 8px; bottom: 8px; background: rgba(0,0,0,.55); border-radius: 4px; padding: 2px 6px; white-space: pre; }

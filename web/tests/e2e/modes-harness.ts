@@ -9,7 +9,7 @@
  */
 import { Api } from '../../src/api/client';
 import { measureClient } from '../../src/measure/capabilities';
-import { createViewer, type Viewer } from '../../src/viewer/index';
+import { createViewer, type SectionPlane, type Viewer } from '../../src/viewer/index';
 import { backgroundAt } from '../../src/viewer/scene';
 import type { CameraView, Mode } from '../../src/wire';
 
@@ -68,6 +68,10 @@ const harness = {
 
   setCamera(c: CameraView): void {
     viewer!.setCamera(c);
+  },
+
+  setSection(plane: SectionPlane | null): void {
+    viewer!.setSection(plane);
   },
 
   camera(): CameraView {

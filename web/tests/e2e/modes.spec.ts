@@ -241,6 +241,34 @@ test.describe('forced modes', () => {
   });
 });
 
+for (const mode of ['serverMesh', 'wasmMesh'] as const)
+  test(`a section cuts the ${mode} and shows the solid's inside`, async ({ page }) => {
+    await openViewer(page, mode);
+    await displayed(page, mode);
+    const whole = area((await displayMask(page)).mask);
+    // Keep x <= 0: the small sphere (at x 0.9) and half the big one go.
+    await page.evaluate(() => (window as any).frepModes.setSection({ normal: [1, 0, 0], offset: 0 }));
+    await expect.poll(async () => area((await displayMask(page)).mask), { timeout: 30_000 }).toBeLessThan(whole * 0.75);
+    // The cut face is drawn in the section colour (warm: red well above blue).
+    const shot = await page.locator('[data-testid=viewer]').screenshot();
+    const warm = await page.evaluate(async (png) => {
+      const bytes = Uint8Array.from(atob(png), (c) => c.charCodeAt(0));
+      const img = await createImageBitmap(new Blob([bytes], { type: 'image/png' }));
+      const c = document.createElement('canvas');
+      c.width = img.width;
+      c.height = img.height;
+      const g = c.getContext('2d')!;
+      g.drawImage(img, 0, 0);
+      const d = g.getImageData(0, 0, c.width, c.height).data;
+      let n = 0;
+      for (let i = 0; i < d.length; i += 4) if (d[i] > 150 && d[i] - d[i + 2] > 60) n++;
+      return n;
+    }, shot.toString('base64'));
+    expect(warm).toBeGreaterThan(200);
+    await page.evaluate(() => (window as any).frepModes.setSection(null));
+    await expect.poll(async () => area((await displayMask(page)).mask), { timeout: 30_000 }).toBeGreaterThan(whole * 0.95);
+  });
+
 test('orbiting in mode 1 streams frames, acked, and the resting still matches', async ({ page }) => {
   const up: { type: string }[] = [];
   let framesDown = 0;
