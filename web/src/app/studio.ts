@@ -79,7 +79,11 @@ export class Studio {
       onSave: () => void this.save(),
     });
     this.list = new ModelList(this.api, {
-      open: (id) => this.navigate({ modelId: id, version: null, camera: null }),
+      open: (id) => {
+        // On a phone the list covers the view: fold it away once a model is chosen.
+        if (window.matchMedia('(max-width: 900px)').matches) this.layout.root.classList.add('left-collapsed');
+        this.navigate({ modelId: id, version: null, camera: null });
+      },
       deleted: (id) => {
         if (this.model?.id === id) this.close();
       },
