@@ -121,3 +121,21 @@ fn the_compile_cache_shares_models() {
     assert!(cache.get_or_compile("m(", None, &[], &l).is_err());
     assert_eq!(cache.len(), 2);
 }
+
+#[test]
+fn closed_form_is_told_apart() {
+    let closed = |name: &str| {
+        let path = format!("{}/../../examples/{name}", env!("CARGO_MANIFEST_DIR"));
+        let src = std::fs::read_to_string(path).unwrap();
+        compile(&src, None, &CompileLimits::default())
+            .unwrap()
+            .summary()
+            .closed_form
+    };
+    // Set expressions over at most 8 quadrics.
+    assert!(closed("semi_sphere.hf"));
+    assert!(closed("closed_cylinder.hf"));
+    // Trigonometry; a hundred spheres (beyond 8 leaves).
+    assert!(!closed("m3_gyroid.hf"));
+    assert!(!closed("m2_spheres100.hf"));
+}
