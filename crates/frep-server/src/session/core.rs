@@ -45,6 +45,7 @@ pub struct Session {
     moving: bool,
     viewport: (u32, u32),
     asked: Instant,
+    camera_seen: bool,
     slot: watch::Sender<Option<Ask>>,
     ask_gen: u64,
     in_flight: HashMap<u32, InFlight>,
@@ -111,6 +112,7 @@ impl Session {
             moving: false,
             viewport: (0, 0),
             asked: Instant::now(),
+            camera_seen: false,
             slot,
             ask_gen: 0,
             in_flight: HashMap::new(),
@@ -224,6 +226,7 @@ impl Session {
                 self.moving = moving;
                 self.viewport = (width, height);
                 self.asked = at;
+                self.camera_seen = true;
                 self.decider.activity(now);
                 self.restream();
                 None
@@ -305,8 +308,15 @@ impl Session {
         } else {
             None
         };
+        let streaming = self.camera_seen
+            && self
+                .decider
+                .current()
+                .is_some_and(|d| d.mode == Mode::Still);
         match decided {
             Some(d) => self.apply(d),
+            // New values while frames stream: the next frame shows them.
+            None if streaming && !changed => self.restream(),
             // Same decision, new model or values: its artefacts again.
             None => self.deliver(),
         }
@@ -346,8 +356,12 @@ impl Session {
     }
 
     /// Puts the latest camera, model and settings in the stream's slot
-    /// (mode 1 only).
+    /// (mode 1 only, once the client sent a camera: before, the `image`
+    /// artefact is the first display).
     fn restream(&mut self) {
+        if !self.camera_seen {
+            return;
+        }
         let d = self.decider.current();
         let (Some(d), Some(o)) = (d.filter(|d| d.mode == Mode::Still), self.opened.as_ref()) else {
             return;

@@ -60,7 +60,10 @@ impl Hub {
         {
             return hub.clone();
         }
-        let hub = Arc::new(Hub::new(session_config(state), state.config.limits.workers));
+        let hub = Arc::new(Hub::new(
+            state.config.session.clone(),
+            state.config.limits.workers,
+        ));
         hubs.push((Arc::downgrade(&state.artefacts), hub.clone()));
         hub
     }
@@ -116,10 +119,4 @@ impl Hub {
             queued: (jobs - jobs_busy) as u32,
         }
     }
-}
-
-/// The server configuration's session settings.
-fn session_config(state: &AppState) -> SessionConfig {
-    let _ = state;
-    SessionConfig::default()
 }
