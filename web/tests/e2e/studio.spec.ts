@@ -183,3 +183,18 @@ test('on a phone-sized screen the panels collapse behind toggles', async ({ page
   // The page does not scroll sideways.
   expect(await page.evaluate(() => document.documentElement.scrollWidth)).toBeLessThanOrEqual(390);
 });
+
+test('completion and signature help come from the kernel table', async ({ page }) => {
+  const d = await createModel(uniqueName('complete'), sphereSource('0.8'));
+  await openModel(page, d.model.id, 'hfSphere');
+  await page.locator('.editor-host .cm-content').click();
+  await page.keyboard.press('ControlOrMeta+End');
+  await page.keyboard.type('\nhfTorusZ');
+  const options = page.locator('.cm-tooltip-autocomplete');
+  await expect(options).toContainText('hfTorusZ');
+  await page.keyboard.press('Enter');
+  const signature = page.locator('.cm-signature');
+  await expect(signature).toContainText('hfTorusZ(x[], center[], R, r0)');
+  await expect(signature.locator('.cm-signature-current')).toHaveText('x[]');
+  await expect(page.locator('.editor-host .cm-content')).toContainText('hfTorusZ(x, center, R, r0)');
+});
