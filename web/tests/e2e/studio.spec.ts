@@ -191,8 +191,8 @@ test('completion and signature help come from the kernel table', async ({ page }
   await page.keyboard.press('ControlOrMeta+End');
   await page.keyboard.type('\nhfTorusZ');
   const options = page.locator('.cm-tooltip-autocomplete');
-  await expect(options).toContainText('hfTorusZ');
-  await page.keyboard.press('Enter');
+  // Click the option (Enter can race the list's refresh after the last keystroke).
+  await options.locator('li', { hasText: /^hfTorusZ/ }).first().click();
   const signature = page.locator('.cm-signature');
   await expect(signature).toContainText('hfTorusZ(x[], center[], R, r0)');
   await expect(signature.locator('.cm-signature-current')).toHaveText('x[]');
