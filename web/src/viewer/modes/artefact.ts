@@ -1,6 +1,7 @@
 /**
  * Fetching artefacts for the server modes: `POST /api/artefacts`, then the
- * bytes at the returned URL, cancelled by the request's signal. Reports
+ * bytes at the returned URL, cancelled by the request's signal (and the
+ * server told, through `abandon`, when the job was still running). Reports
  * progress when the server says how far a job is, and the bytes moved.
  */
 import type { Api } from '../../api/client';
@@ -31,13 +32,20 @@ export async function fetchArtefact(
   spec: ArtefactSpec,
   signal: AbortSignal,
   progress?: (key: string, fraction: number) => void,
+  abandon?: (key: string) => void,
 ): Promise<FetchedArtefact> {
   const body: ArtefactRequest = { model: modelRef(show), params: show.params, spec };
   const ref = await api.requestArtefact(body, signal);
   progress?.(ref.key, ref.ready ? 1 : 0);
-  const blob = await api.fetchArtefact(ref, (loaded, total) => progress?.(ref.key, total ? loaded / total : 0.5), signal);
-  progress?.(ref.key, 1);
-  return { blob, key: ref.key, bytes: blob.size };
+  try {
+    const blob = await api.fetchArtefact(ref, (loaded, total) => progress?.(ref.key, total ? loaded / total : 0.5), signal);
+    progress?.(ref.key, 1);
+    return { blob, key: ref.key, bytes: blob.size };
+  } catch (e) {
+    // A superseded request tells the server it no longer waits (it may stop the job).
+    if (signal.aborted && !ref.ready) abandon?.(ref.key);
+    throw e;
+  }
 }
 
 /** Whether an error is a cancellation (superseded request). */

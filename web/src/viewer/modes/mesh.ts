@@ -73,7 +73,9 @@ class MeshView implements ModeView {
     let first = true;
     for (const depth of coarse < full ? [coarse, full] : [full]) {
       try {
-        const got = await fetchArtefact(this.ctx.api, model.show, { kind: 'mesh', depth }, model.signal, this.ctx.progress);
+        const got = await fetchArtefact(this.ctx.api, model.show, { kind: 'mesh', depth }, model.signal, this.ctx.progress, (k) =>
+          this.ctx.session?.cancel(k),
+        );
         const gltf = await this.loader.parseAsync(await got.blob.arrayBuffer(), '');
         if (model.signal.aborted) return;
         bytes += got.bytes;

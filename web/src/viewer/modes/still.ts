@@ -154,6 +154,7 @@ class StillView implements ModeView {
         { kind: 'image', camera, width: this.pixels(width, pixelRatio, scale), height: this.pixels(height, pixelRatio, scale), format, quality },
         signal,
         this.ctx.progress,
+        (k) => this.ctx.session?.cancel(k),
       );
       const img = await decodeImage(got.blob);
       if (signal.aborted || this.model !== model) return null;

@@ -72,7 +72,9 @@ class ViewSetView implements ModeView {
     try {
       const [index, sheet] = await Promise.all([
         fetchArtefact(this.ctx.api, model.show, { kind: 'viewSetIndex', ...common }, model.signal),
-        fetchArtefact(this.ctx.api, model.show, { kind: 'viewSet', ...common }, model.signal, this.ctx.progress),
+        fetchArtefact(this.ctx.api, model.show, { kind: 'viewSet', ...common }, model.signal, this.ctx.progress, (k) =>
+          this.ctx.session?.cancel(k),
+        ),
       ]);
       const layout = JSON.parse(await index.blob.text()) as ViewSetLayout;
       const img = await decodeImage(sheet.blob);
