@@ -503,6 +503,9 @@ async fn bad_messages_get_errors_and_the_session_lives_on() {
     })
     .await;
     assert!(matches!(c.text().await, ServerMessage::Error { .. }));
+    let bad_camera = r#"{"type":"camera","camera":{"yaw":0,"pitch":0,"fov":400,"zoom":1,"pan":[0,0,0]},"moving":true,"width":10,"height":10}"#;
+    c.raw(bad_camera).await;
+    assert!(matches!(c.text().await, ServerMessage::Error { .. }));
     // Still alive: an open decides.
     c.open_source(SPHERE).await;
     let d = c.decision().await;

@@ -18,8 +18,9 @@ use tracing::Instrument;
 
 use super::config::SessionConfig;
 use super::decide::Decider;
+use super::deliver::Pusher;
 use super::hub::Hub;
-use super::open::{self, OpenRequest, Opened, Pusher};
+use super::open::{self, OpenRequest, Opened};
 use super::probe::Prober;
 use super::stream::{self, Ask, InFlight};
 use super::{follow, wire, Event};
@@ -222,6 +223,10 @@ impl Session {
                 width,
                 height,
             } => {
+                if let Err(e) = check_camera(&camera) {
+                    self.error(e);
+                    return;
+                }
                 self.camera = camera;
                 self.moving = moving;
                 self.viewport = (width, height);
@@ -524,6 +529,20 @@ impl Session {
         for (_, t) in self.jobs.drain(..) {
             t.abort();
         }
+    }
+}
+
+/// Refuses a camera the renderer cannot use (non-finite angles, a field
+/// of view outside (0, 180) degrees, a zoom that is not positive).
+fn check_camera(c: &CameraView) -> Result<(), String> {
+    let finite = c.yaw.is_finite() && c.pitch.is_finite() && c.pan.iter().all(|p| p.is_finite());
+    let fov_ok = c.fov.is_none_or(|f| f.is_finite() && f > 0.0 && f < 180.0);
+    if finite && fov_ok && c.zoom.is_finite() && c.zoom > 0.0 {
+        Ok(())
+    } else {
+        Err(format!(
+            "camera {c:?} is not usable (finite angles, fov in (0, 180), zoom > 0)"
+        ))
     }
 }
 

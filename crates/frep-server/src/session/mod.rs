@@ -6,7 +6,8 @@
 //! Protocol: frep-wire's `session.rs` (JSON text messages both ways;
 //! binary messages down for probe bytes and frames). Parts, one per file:
 //! [`probe`] (round trips, bandwidth), [`decide`] (the engine),
-//! [`open`] (compile, artefacts of the mode, progress), [`stream`] (mode 1
+//! [`open`] (resolve and compile), [`specs`] (the artefacts of a mode),
+//! [`deliver`] (registering, computing, progress), [`stream`] (mode 1
 //! frames), [`follow`] (other editors' saves), [`hub`] (what sessions
 //! share), [`core`] (one session's state and its reactions), [`wire`].
 //!
@@ -23,10 +24,12 @@
 pub mod config;
 mod core;
 pub mod decide;
+pub mod deliver;
 pub mod follow;
 pub mod hub;
 pub mod open;
 pub mod probe;
+pub mod specs;
 pub mod stream;
 pub mod wire;
 
