@@ -345,3 +345,55 @@ fn a_cancelled_job_stops() {
     );
     assert_eq!(r.unwrap_err(), ArtefactError::Cancelled);
 }
+
+#[test]
+fn a_model_without_a_bounds_line_fills_the_frame() {
+    // A corpus-like model: no `-- bounds:` line, off-centre, with noise.
+    let src = "my_model(x[3], a[1]) {\n  my_model = 9 - ((x[1]-5)^2 + x[2]^2 + x[3]^2) + hfNoiseG(x, 1, 2, 0.5);\n}\n";
+    let c = compile(src, None, &CompileLimits::default()).unwrap();
+    assert_eq!(c.bounds_origin(), frep_artefact::BoxOrigin::Extent);
+    let out = run(&c, &image(ImageEncoding::Png)).unwrap();
+    let (w, h, ch, px) = png(&out.bytes);
+    // About 12 % of a 64×48 frame (the box's bounding sphere fills its
+    // height); in hfp's [-10, 10]³ about 2 %.
+    let n = model_pixels(&px, ch, w);
+    assert!(n * 100 > (w * h) as usize * 8, "{n} of {} pixels", w * h);
+}
+
+#[test]
+fn corpus_models_without_bounds_lines_are_framed() {
+    let dir = std::path::Path::new("/work/shared/hyperfun/corpus");
+    let Ok(rd) = std::fs::read_dir(dir) else {
+        eprintln!("no corpus here: skipped");
+        return;
+    };
+    let mut framed = 0;
+    for e in rd.flatten() {
+        let Ok(src) = std::fs::read_to_string(e.path()) else {
+            continue;
+        };
+        let Ok(c) = compile(&src, None, &CompileLimits::default()) else {
+            continue;
+        };
+        if c.bounds_origin() != frep_artefact::BoxOrigin::Extent {
+            continue;
+        }
+        let b = c.bounds();
+        assert!((0..3).all(|k| b[k] < b[k + 3] && b[k].is_finite()), "{b:?}");
+        // Some models are empty (the dice's cube minus a sphere holding it):
+        // the interval bounds still give a box, and the picture shows nothing.
+        let volume = run(&c, &ArtefactSpec::Slices { grid: 24 }).unwrap().bytes;
+        if volume.iter().all(|&v| v < 128) {
+            continue;
+        }
+        let out = run(&c, &image(ImageEncoding::Png)).unwrap();
+        let (w, _, ch, px) = png(&out.bytes);
+        let n = model_pixels(&px, ch, w);
+        assert!(n > 64 * 48 / 50, "{}: {n} model pixels", e.path().display());
+        framed += 1;
+    }
+    assert!(
+        framed >= 10,
+        "{framed} corpus models framed by their extent"
+    );
+}
