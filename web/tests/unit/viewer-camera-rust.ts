@@ -3,6 +3,12 @@
  * and frep-render's Camera::ray_at) for a few views, boxes and image sizes:
  * a throwaway Rust program calling those functions printed these numbers
  * (2026-11-28); viewer-camera.test.ts checks the client's camera against them.
+ * To print them again (a crate depending on frep-artefact, frep-render and
+ * frep-wire by path), for each case:
+ *
+ *     let cam = frep_artefact::camera::camera(&view, &Aabb::new(min, max));
+ *     // eye, target, up, right, forward, projection (fov or half extent), and
+ *     // cam.ray_at(x, y, w, h) at (0, 0), (w/2, h/2), (17.25, h - 3.5), (w, 11)
  */
 import type { CameraView } from '../../src/wire';
 
