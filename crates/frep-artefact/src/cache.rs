@@ -7,7 +7,9 @@
 //! its metadata. The index (key → size, last use, metadata) lives in memory
 //! and is rebuilt from the folder at start, oldest modification first;
 //! leftover temporary files and bodies whose length disagrees with their
-//! metadata (a crash mid-write) are deleted then.
+//! metadata (a crash mid-write) are deleted then. Files are not synced: the
+//! cache acknowledges nothing to anyone (a lost file is computed again), and
+//! the length check catches a body the crash left short.
 
 use std::collections::HashMap;
 use std::fs;
