@@ -42,6 +42,7 @@ struct Outcome {
     bytes: u64,
     errors: Vec<String>,
     decisions: u32,
+    triggers: HashMap<String, u32>,
 }
 
 fn report() -> ClientReport {
@@ -176,8 +177,9 @@ fn handle(msg: Message, asked: &mut HashMap<u64, Instant>, out: &mut Outcome) ->
                 out.errors.push(message);
                 None
             }
-            Ok(ServerMessage::Decision { .. }) => {
+            Ok(ServerMessage::Decision { decision }) => {
                 out.decisions += 1;
+                *out.triggers.entry(decision.trigger).or_default() += 1;
                 None
             }
             Ok(_) => None,
@@ -302,6 +304,12 @@ async fn main() {
     let frames: u64 = outcomes.iter().map(|o| o.frames).sum();
     let bytes: u64 = outcomes.iter().map(|o| o.bytes).sum();
     let decisions: u32 = outcomes.iter().map(|o| o.decisions).sum();
+    let mut triggers: HashMap<&str, u32> = HashMap::new();
+    for (t, n) in outcomes.iter().flat_map(|o| o.triggers.iter()) {
+        *triggers.entry(t.as_str()).or_default() += n;
+    }
+    let mut triggers: Vec<_> = triggers.into_iter().collect();
+    triggers.sort();
     let mut samples: Vec<&String> = outcomes.iter().flat_map(|o| o.errors.iter()).collect();
     errors += samples.len();
     println!(
@@ -322,6 +330,7 @@ async fn main() {
         lat.last().copied().unwrap_or(f64::NAN),
         lat.len()
     );
+    println!("decisions by trigger: {triggers:?}");
     println!("errors: {errors}");
     samples.sort();
     samples.dedup();

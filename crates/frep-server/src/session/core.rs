@@ -55,6 +55,7 @@ pub struct Session {
     pusher: Pusher,
     jobs: Vec<(String, JoinHandle<()>)>,
     last_tick: u64,
+    frame_sample: Option<ServerSample>,
 }
 
 impl Session {
@@ -122,6 +123,7 @@ impl Session {
             pusher,
             jobs: Vec::new(),
             last_tick: 0,
+            frame_sample: None,
         })
     }
 
@@ -420,7 +422,6 @@ impl Session {
         match event {
             Event::Send(m) => self.outbox.push(m),
             Event::Frame(f) => {
-                let now = self.now();
                 self.outbox.push(f.message);
                 self.in_flight.insert(
                     f.seq,
@@ -430,15 +431,15 @@ impl Session {
                         bytes: f.bytes,
                     },
                 );
-                let sample = ServerSample::Image(ImageSample {
+                // Frames come many per second: the engine hears the latest
+                // at its next tick, not each one (every sample can move the
+                // settings it picks).
+                self.frame_sample = Some(ServerSample::Image(ImageSample {
                     pixels: f.pixels,
                     quality: f.quality,
                     server_ms: f.server_ms,
                     bytes: f.bytes,
-                });
-                if let Some(d) = self.decider.measured(sample, now) {
-                    self.apply(d);
-                }
+                }));
             }
             Event::Opened { gen, result } => {
                 if gen != self.open_gen {
@@ -481,6 +482,11 @@ impl Session {
         let now = self.now();
         if now.saturating_sub(self.last_tick) >= self.config.tick_ms {
             self.last_tick = now;
+            if let Some(sample) = self.frame_sample.take() {
+                if let Some(d) = self.decider.measured(sample, now) {
+                    self.apply(d);
+                }
+            }
             let load = self.hub.load(&self.state.artefacts);
             if let Some(d) = self.decider.tick(load, now) {
                 self.apply(d);

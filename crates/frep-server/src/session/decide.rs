@@ -129,6 +129,37 @@ impl Decider {
         self.trace(d)
     }
 
+    /// Makes every number of a decision finite: JSON has no infinity or
+    /// NaN (serde writes `null`, which a client's `number` cannot read).
+    /// An impossible time stays recognisable as the largest double.
+    fn finite(mut d: Decision) -> Decision {
+        let fix = |v: &mut f64| {
+            if !v.is_finite() {
+                *v = if v.is_nan() || *v > 0.0 {
+                    f64::MAX
+                } else {
+                    f64::MIN
+                };
+            }
+        };
+        for p in &mut d.predictions {
+            for v in [
+                &mut p.first_display_ms,
+                &mut p.orbit_ms,
+                &mut p.edit_ms,
+                &mut p.bytes,
+                &mut p.cost,
+            ] {
+                fix(v);
+            }
+        }
+        fix(&mut d.network.rtt_ms);
+        fix(&mut d.network.bandwidth_bps);
+        fix(&mut d.settings.moving_scale);
+        d.settings.elevations.iter_mut().for_each(fix);
+        d
+    }
+
     /// Traces the engine's newest log entry (each call into the engine
     /// logs at most one) and passes the decision on.
     fn trace(&mut self, decision: Option<Decision>) -> Option<Decision> {
@@ -152,6 +183,58 @@ impl Decider {
             }
             self.last_logged = last.cloned();
         }
-        decision
+        decision.map(Decider::finite)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use frep_wire::Screen;
+
+    #[test]
+    fn decisions_carry_only_finite_numbers() {
+        let mut d = Decider::new(&SessionConfig::default()).unwrap();
+        let report = ClientReport {
+            user_agent: "t".into(),
+            webgl2: false,
+            renderer: None,
+            max_texture_size: 0,
+            max_3d_texture_size: 0,
+            webgpu: false,
+            gpu_bench_ms: None,
+            wasm_bench_meps: None,
+            cpu_bench_ms: None,
+            screen: Screen {
+                width: 800,
+                height: 600,
+                pixel_ratio: 1.0,
+            },
+            mobile: false,
+            device_memory_gb: None,
+            cores: None,
+        };
+        assert!(d.report(report, 0).is_none(), "no model yet");
+        let stats = ModelStats {
+            tape_len: 40,
+            nodes: 50,
+            closed_form: false,
+            attributes: 0,
+            primitives: None,
+            shader_statements: 40,
+            measured: Default::default(),
+        };
+        let net = NetworkEstimate {
+            rtt_ms: 20.0,
+            bandwidth_bps: 1e7,
+            samples: 3,
+        };
+        let decision = d.model(stats, net, 0).expect("connects");
+        let json = serde_json::to_string(&decision).unwrap();
+        // serde reads no `null` as an f64: a decision with an infinite
+        // prediction would fail here.
+        let back: Decision = serde_json::from_str(&json).expect("a client can read it");
+        assert_eq!(back.predictions.len(), 6);
+        assert!(d.connected());
     }
 }
