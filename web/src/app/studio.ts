@@ -28,6 +28,8 @@ import { writePreset } from './presets';
 import { TreePanel } from './tree-panel';
 import { type UrlState, decodeState, encodeState } from './url-state';
 import { DEFAULT_CAMERA, type StudioViewer, mountViewer } from './viewer-port';
+import { WasmChecker } from '../wasm/checker';
+import { sharedKernelReady } from '../wasm/client';
 
 /** Options of {@link Studio.start}. */
 export interface StudioOptions {
@@ -68,7 +70,9 @@ export class Studio {
 
   private constructor(root: HTMLElement, opts: StudioOptions) {
     this.api = new Api(opts.apiBase ?? '');
-    const checker = opts.checker ?? new ServerChecker(this.api);
+    // The kernel in the worker answers sources with errors at once (no
+    // round trip); sources that compile go on to the server for their summary.
+    const checker = opts.checker ?? new WasmChecker(new ServerChecker(this.api), sharedKernelReady);
     this.layout = buildLayout(root);
     this.editor = new CodeEditor(this.layout.editor, {
       checker,

@@ -80,7 +80,7 @@ pub(crate) fn build_random(g: &mut Graph, instrs: &[Instr]) -> NodeId {
     for &(k, i, j, l, c) in instrs {
         let len = pool.len();
         let pick = |s: u16| {
-            if s % 3 == 0 {
+            if s.is_multiple_of(3) {
                 pool[s as usize % len]
             } else {
                 pool[len - 1 - (s as usize / 3) % len.min(6)]
