@@ -446,30 +446,4 @@ mod tests {
         assert!(!dir.join("slice_000.png").exists());
         std::fs::remove_dir_all(&dir).unwrap();
     }
-
-    /// Sampling and writing a 128³ volume of a sphere
-    /// (run with `cargo test -p frep-render --release -- --ignored --nocapture`).
-    #[test]
-    #[ignore]
-    fn bench_volume_128() {
-        let b = Aabb::new([-1.0; 3], [1.0; 3]);
-        let t = std::time::Instant::now();
-        let g = sample_grid(&b, [128; 3], sphere);
-        let sample_ms = t.elapsed().as_secs_f64() * 1e3;
-        let dir = temp_dir("bench-volume");
-        let t = std::time::Instant::now();
-        let idx = write_slices(&dir, &g, &SliceOptions::default()).unwrap();
-        let write_ms = t.elapsed().as_secs_f64() * 1e3;
-        let pngs: u64 = idx
-            .pngs
-            .iter()
-            .map(|f| std::fs::metadata(dir.join(f)).unwrap().len())
-            .sum();
-        println!(
-            "128^3 sphere: sample {sample_ms:.1} ms, write {write_ms:.1} ms (scale {}), 128 PNGs {pngs} B, raw {} B",
-            idx.mapping.scale,
-            std::fs::metadata(dir.join("volume.raw")).unwrap().len()
-        );
-        std::fs::remove_dir_all(&dir).unwrap();
-    }
 }

@@ -414,46 +414,4 @@ mod tests {
             Projection::Orthographic { .. }
         ));
     }
-
-    /// A 12-view 256² turntable of the 100-sphere lattice in each format
-    /// (run with `cargo test -p frep-render --release -- --ignored --nocapture`).
-    #[test]
-    #[ignore]
-    fn bench_view_set_12x256() {
-        use crate::synthetic::Spheres;
-        use crate::tiles::cast_tiled;
-        let b = Aabb::new([-1.0; 3], [1.0; 3]);
-        let scene = Spheres::lattice_m2();
-        let t = std::time::Instant::now();
-        let opts = ViewSetOptions::default();
-        let set = render_view_set(&b, &opts, |cam, w, h| {
-            shade(&cast_tiled(&scene, cam, w, h, 32), &Lighting::default())
-        });
-        println!(
-            "render 12 views 256x256: {:.0} ms",
-            t.elapsed().as_secs_f64() * 1e3
-        );
-        for (format, quality) in [
-            (ImageFormat::Jpeg, 75),
-            (ImageFormat::Webp, 75),
-            (ImageFormat::Png, 0),
-        ] {
-            if format == ImageFormat::Webp && !cfg!(feature = "webp") {
-                continue;
-            }
-            let set = set.clone().with_format(format, quality);
-            let dir = temp_dir(&format!("bench-{}", format.extension()));
-            let t = std::time::Instant::now();
-            write_view_set(&dir, &set).unwrap();
-            let ms = t.elapsed().as_secs_f64() * 1e3;
-            let size = |f: &str| std::fs::metadata(dir.join(f)).unwrap().len();
-            let views: u64 = set.index.views.iter().map(|v| size(&v.file)).sum();
-            println!(
-                "{format:?} q{quality}: views {views} B, sheet {} B, index {} B, write {ms:.0} ms",
-                size(&format!("sheet.{}", format.extension())),
-                size("index.json")
-            );
-            std::fs::remove_dir_all(&dir).unwrap();
-        }
-    }
 }

@@ -34,7 +34,7 @@ use frep_core::graph::{Node, NodeId};
 use frep_core::ops::{BinaryOp, UnaryOp};
 use frep_core::Tape;
 
-use super::Quadric;
+use super::poly::Quadric;
 use crate::camera::Aabb;
 
 /// Rays per block: one bit each in the masks of the set expression.

@@ -1,0 +1,153 @@
+//! Merging the bricks' marching-cubes output into one mesh, shared
+//! vertices joined by key.
+
+use std::collections::hash_map::Entry;
+
+use crate::Mesh;
+
+use super::extract::BrickOut;
+use super::{par_each, par_map, KeyMap};
+
+/// Splits `v` into consecutive chunks of these lengths.
+fn split_lens<T>(mut v: &mut [T], lens: impl Iterator<Item = usize>) -> Vec<&mut [T]> {
+    let mut out = Vec::new();
+    for n in lens {
+        let (a, b) = std::mem::take(&mut v).split_at_mut(n);
+        out.push(a);
+        v = b;
+    }
+    out
+}
+
+/// The merge of marching-cubes bricks (`tris` and `shared`): each brick's vertices in
+/// order, a vertex on a shared edge only from the first brick that has it, then the
+/// brick's triangles, renumbered. Only the shared vertices go through one hash map, in
+/// brick order; numbering and copying run in parallel.
+pub(super) fn merge_marching(outs: &mut [BrickOut], mesh: &mut Mesh, with_colors: bool) {
+    // Shared vertices met before: (this brick's vertex, earlier brick, its vertex), in the
+    // order of this brick's vertices; `ends[b]` ends brick b's.
+    let nshared: usize = outs.iter().map(|o| o.shared.len()).sum();
+    let mut first: KeyMap<(u32, u32)> =
+        KeyMap::with_capacity_and_hasher(nshared, Default::default());
+    let mut dups: Vec<(u32, u32, u32)> = Vec::new();
+    let mut ends = Vec::with_capacity(outs.len());
+    for (b, o) in outs.iter().enumerate() {
+        for &(v, key) in &o.shared {
+            match first.entry(key) {
+                Entry::Vacant(e) => {
+                    e.insert((b as u32, v));
+                }
+                Entry::Occupied(e) => {
+                    let (b0, v0) = *e.get();
+                    dups.push((v, b0, v0));
+                }
+            }
+        }
+        ends.push(dups.len());
+    }
+    drop(first);
+    let dup_range = |b: usize| if b == 0 { 0 } else { ends[b - 1] }..ends[b];
+    // Each brick's kept vertices are numbered in order from its offset.
+    let kept: Vec<usize> = (0..outs.len())
+        .map(|b| outs[b].positions.len() - dup_range(b).len())
+        .collect();
+    let mut offsets = Vec::with_capacity(outs.len());
+    let mut total = 0usize;
+    for &k in &kept {
+        offsets.push(total);
+        total += k;
+    }
+    struct Job<'a> {
+        out: &'a BrickOut,
+        dups: &'a [(u32, u32, u32)],
+        offset: u32,
+        remap: Vec<u32>,
+    }
+    let mut jobs: Vec<Job> = outs
+        .iter()
+        .enumerate()
+        .map(|(b, o)| Job {
+            out: o,
+            dups: &dups[dup_range(b)],
+            offset: offsets[b] as u32,
+            remap: Vec::new(),
+        })
+        .collect();
+    par_each(&mut jobs, |j| {
+        let n = j.out.positions.len();
+        j.remap.reserve_exact(n);
+        let (mut next, mut d) = (j.offset, 0);
+        for v in 0..n as u32 {
+            if j.dups.get(d).is_some_and(|x| x.0 == v) {
+                j.remap.push(u32::MAX);
+                d += 1;
+            } else {
+                j.remap.push(next);
+                next += 1;
+            }
+        }
+    });
+    // The earlier bricks' numbers of the duplicates.
+    let fixes: Vec<Vec<u32>> = par_map(&jobs, |j| {
+        j.dups
+            .iter()
+            .map(|&(_, b0, v0)| jobs[b0 as usize].remap[v0 as usize])
+            .collect()
+    });
+    for (j, f) in jobs.iter_mut().zip(fixes) {
+        for (&(v, _, _), g) in j.dups.iter().zip(f) {
+            j.remap[v as usize] = g;
+        }
+    }
+    let base_v = mesh.positions.len();
+    let base_t = mesh.triangles.len();
+    let ntri: usize = outs.iter().map(|o| o.tris.len()).sum();
+    mesh.positions.resize(base_v + total, [0.0; 3]);
+    mesh.normals.resize(base_v + total, [0.0; 3]);
+    if with_colors {
+        mesh.colors.resize(base_v + total, [0.0; 3]);
+    }
+    mesh.triangles.resize(base_t + ntri, [0; 3]);
+    let pos = split_lens(&mut mesh.positions[base_v..], kept.iter().copied());
+    let nrm = split_lens(&mut mesh.normals[base_v..], kept.iter().copied());
+    let mut col = if with_colors {
+        split_lens(&mut mesh.colors[base_v..], kept.iter().copied())
+    } else {
+        Vec::new()
+    };
+    col.resize_with(outs.len(), Default::default);
+    let tri = split_lens(
+        &mut mesh.triangles[base_t..],
+        outs.iter().map(|o| o.tris.len()),
+    );
+    let mut work: Vec<_> = jobs
+        .iter()
+        .zip(pos)
+        .zip(nrm)
+        .zip(col)
+        .zip(tri)
+        .map(|((((j, p), n), c), t)| (j, p, n, c, t))
+        .collect();
+    par_each(&mut work, |(j, p, n, c, t)| {
+        let o = j.out;
+        let mut k = 0;
+        for (v, &g) in j.remap.iter().enumerate() {
+            if g == j.offset + k as u32 {
+                p[k] = o.positions[v];
+                n[k] = o.normals[v];
+                if !c.is_empty() {
+                    c[k] = o.colors.get(v).copied().unwrap_or([0.0; 3]);
+                }
+                k += 1;
+            }
+        }
+        for (dst, src) in t.iter_mut().zip(&o.tris) {
+            *dst = src.map(|i| j.remap[i as usize]);
+        }
+    });
+    drop(work);
+    drop(jobs);
+    for o in outs.iter_mut() {
+        *o = BrickOut::default();
+    }
+}

@@ -1,0 +1,105 @@
+//! What to render ([`RenderSettings`]) and why a render fails
+//! ([`RenderError`]).
+
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+
+use frep_core::eval::Inputs;
+
+use crate::camera::{Aabb, Camera};
+use crate::image::Lighting;
+
+use super::{MAX_PIXELS, MAX_SIDE};
+
+/// What to render.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RenderSettings {
+    /// Image size in pixels `(width, height)`.
+    pub size: (u32, u32),
+    /// Turntable yaw in degrees (see [`Camera::orbit`]).
+    pub yaw: f64,
+    /// Turntable pitch in degrees.
+    pub pitch: f64,
+    /// Field of view in degrees (perspective); `None`: orthographic.
+    pub fov: Option<f64>,
+    /// The model box: rays are clipped to it and the camera frames it.
+    pub bounds: Aabb,
+    /// Encoder quality 1–100 for JPEG and WebP (not used by the caster).
+    pub quality: u8,
+    /// Compute ambient occlusion (a few field samples along each normal).
+    pub ao: bool,
+    /// Parameter values `a[]` and extra coordinates.
+    pub inputs: Inputs,
+    /// Tile size in pixels (tiles run in parallel).
+    pub tile_size: u32,
+    /// The lights.
+    pub lighting: Lighting,
+}
+
+impl Default for RenderSettings {
+    fn default() -> Self {
+        RenderSettings {
+            size: (512, 512),
+            yaw: 30.0,
+            pitch: 20.0,
+            fov: Some(30.0),
+            bounds: Aabb::new([-10.0; 3], [10.0; 3]),
+            quality: 85,
+            ao: false,
+            inputs: Inputs::default(),
+            tile_size: 32,
+            lighting: Lighting::default(),
+        }
+    }
+}
+
+impl RenderSettings {
+    /// The camera these settings describe.
+    pub fn camera(&self) -> Camera {
+        Camera::orbit(&self.bounds, self.yaw, self.pitch, self.fov)
+    }
+}
+
+/// Why a render produced no image.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum RenderError {
+    /// The cancel flag was set.
+    Cancelled,
+    /// The size is zero or above [`MAX_SIDE`] / [`MAX_PIXELS`].
+    BadSize {
+        /// Requested width.
+        width: u32,
+        /// Requested height.
+        height: u32,
+    },
+}
+
+impl std::fmt::Display for RenderError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            RenderError::Cancelled => write!(f, "render cancelled"),
+            RenderError::BadSize { width, height } => write!(
+                f,
+                "image size {width}x{height} is outside 1..={MAX_SIDE} a side, {MAX_PIXELS} pixels in all"
+            ),
+        }
+    }
+}
+
+impl std::error::Error for RenderError {}
+
+pub(super) fn check_size(width: u32, height: u32) -> Result<(), RenderError> {
+    if width == 0
+        || height == 0
+        || width > MAX_SIDE
+        || height > MAX_SIDE
+        || width as u64 * height as u64 > MAX_PIXELS
+    {
+        return Err(RenderError::BadSize { width, height });
+    }
+    Ok(())
+}
+
+pub(super) fn is_cancelled(cancel: Option<&Arc<AtomicBool>>) -> bool {
+    cancel.is_some_and(|c| c.load(Ordering::Relaxed))
+}
