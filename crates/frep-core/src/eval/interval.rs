@@ -875,7 +875,11 @@ fn powi_iv(b: Interval, n: i32) -> Interval {
     }
     if b.lo <= -EPS {
         let (ml, mh) = (pr(b.hi.min(-EPS).abs()), pr(b.lo.abs()));
-        let (lo, hi) = if m.is_multiple_of(2) { (ml, mh) } else { (-mh, -ml) };
+        let (lo, hi) = if m.is_multiple_of(2) {
+            (ml, mh)
+        } else {
+            (-mh, -ml)
+        };
         let (lo, hi) = invert(lo, hi);
         r = r.hull(widen(make(lo, hi, false), ulps));
     }
