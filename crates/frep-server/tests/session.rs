@@ -558,3 +558,60 @@ async fn another_editors_save_is_announced() {
     }
     server.stop().await;
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_mesh_mode_gets_its_artefacts_and_their_progress() {
+    let (server, _dir) = server().await;
+    let mut c = Client::connect(&server, "ann").await;
+    c.hello(report(true)).await;
+    c.send(&ClientMessage::Override {
+        mode: Some(Mode::ServerMesh),
+    })
+    .await;
+    c.open_source(SPHERE).await;
+    let d = c.decision().await;
+    assert_eq!(d.mode, Mode::ServerMesh);
+    let mut mesh = None;
+    let mut coarse = None;
+    while mesh.is_none() || coarse.is_none() {
+        if let ServerMessage::Artefact { role, artefact } = c.text().await {
+            match role.as_str() {
+                "mesh" => mesh = Some(artefact),
+                "meshCoarse" => coarse = Some(artefact),
+                r => panic!("role {r} in mode 3"),
+            }
+        }
+    }
+    let mut mesh = mesh.unwrap();
+    assert_eq!(mesh.media_type, "model/gltf-binary");
+    // The session computes it and says when it is done (a re-decision on
+    // the coarse mesh's measured cost may replace it with another depth,
+    // perhaps one already computed).
+    loop {
+        match c.text().await {
+            ServerMessage::Progress { key, fraction } => {
+                assert!((0.0..=1.0).contains(&fraction));
+                if key == mesh.key && fraction == 1.0 {
+                    break;
+                }
+            }
+            // A depth computed already (the coarse one) comes ready.
+            ServerMessage::Artefact { role, artefact } if role == "mesh" => {
+                mesh = artefact;
+                if mesh.ready {
+                    break;
+                }
+            }
+            _ => {}
+        }
+    }
+    let body = server
+        .client
+        .get(server.url(&mesh.url))
+        .send()
+        .await
+        .unwrap();
+    assert!(body.status().is_success());
+    assert_eq!(&body.bytes().await.unwrap()[..4], b"glTF");
+    server.stop().await;
+}
