@@ -9,7 +9,7 @@
 //! [`open`] (resolve and compile), [`specs`] (the artefacts of a mode),
 //! [`deliver`] (registering, computing, progress), [`stream`] (mode 1
 //! frames), [`follow`] (other editors' saves), [`hub`] (what sessions
-//! share), [`core`] (one session's state and its reactions), [`wire`].
+//! share), `core` (one session's state and its reactions), [`wire`].
 //!
 //! Each session is one task with a tracing span (`session.id`). Its loop
 //! owns the socket and waits on four things: the client's messages, events
