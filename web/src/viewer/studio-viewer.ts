@@ -66,6 +66,8 @@ class AdaptiveViewer implements Viewer {
   /** The source `summary` belongs to. */
   private summarySource: string | null = null;
   private request: AbortController | null = null;
+  /** The mode the request in flight is showing (null when none is). */
+  private showing: Mode | null = null;
   private requestStart = 0;
   private displayedOnce: Promise<void> = Promise.resolve();
   private resolveDisplayed: (() => void) | null = null;
@@ -234,7 +236,9 @@ class AdaptiveViewer implements Viewer {
     this.root.dataset.decision = d.mode;
     const next = this.override ?? d.mode;
     this.updateBadge();
-    if (next !== this.wanted || next !== this.current?.view.mode) {
+    // A first display already under way in the decided mode goes on: a
+    // restart would make it wait for the decision and a second request.
+    if (next !== this.wanted || (next !== this.current?.view.mode && this.showing !== next)) {
       this.wanted = next;
       void this.refresh();
     }
@@ -321,11 +325,20 @@ class AdaptiveViewer implements Viewer {
   // ---- showing ----
 
   private async refresh(): Promise<void> {
-    const model = this.model;
-    if (!model) return;
+    if (!this.model) return;
     this.request?.abort();
     const ac = new AbortController();
     this.request = ac;
+    this.showing = this.wanted;
+    try {
+      await this.showModel(this.model, ac);
+    } finally {
+      if (this.request === ac) this.showing = null;
+    }
+  }
+
+  /** One request: the summary (compiled when needed), then the wanted mode. */
+  private async showModel(model: ModelShow, ac: AbortController): Promise<void> {
     this.requestStart = performance.now();
     if (!this.resolveDisplayed) this.displayedOnce = new Promise((ok) => (this.resolveDisplayed = ok));
     this.root.dataset.state = 'loading';
