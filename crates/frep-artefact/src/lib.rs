@@ -8,10 +8,10 @@
 //!   (`-- bounds:` line, else the detected extent, as the command line),
 //!   parameters, graph hash and [`CompileSummary`](frep_wire::CompileSummary);
 //!   [`CompileCache`] by source hash; diagnostics for the wire.
-//! - [`key`]: the content address of an artefact and its media type, file
+//! - [`mod@key`]: the content address of an artefact and its media type, file
 //!   extension and URL.
 //! - [`camera`]: the one camera convention of the server and the browser.
-//! - [`compute`]: the computations, synchronous, each kernel called as the
+//! - [`mod@compute`]: the computations, synchronous, each kernel called as the
 //!   CLI calls it, with a [`Cancel`] and a [`JobProgress`].
 //! - [`jobs`], [`service`]: [`Artefacts`], the async-facing service: single
 //!   flight per key, bounded pool and queue, cancel when superseded or when

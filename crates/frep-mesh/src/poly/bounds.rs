@@ -179,7 +179,7 @@ fn scan(
 /// a second scan and grown by 5 % on each side. `None` when no solid is found or when it
 /// reaches even `±1024` (an unbounded solid such as a half-space): use an explicit box then
 /// (hfp's default is [`HFP_DEFAULT`]). All scans together do a bounded amount of work
-/// ([`WORK_BUDGET`]): where intervals prune nothing, the budget runs out, the cells left
+/// (`WORK_BUDGET`): where intervals prune nothing, the budget runs out, the cells left
 /// count as solid and the answer is `None` within milliseconds.
 pub fn detect(model: &Model, inputs: &Inputs) -> Option<[f64; 6]> {
     let tape = model.tape();
