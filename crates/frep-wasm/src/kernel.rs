@@ -11,7 +11,7 @@
 use frep_core::eval::batch::BatchEval;
 use frep_core::{CompileOptions, Inputs, Model, PointEval};
 use frep_glsl::{shader_for_model, ShaderOptions};
-use frep_mesh::poly::bounds::{detect, parse_box, HFP_DEFAULT};
+use frep_mesh::poly::bounds::{model_box, HFP_DEFAULT};
 use frep_mesh::{polygonize, CancelToken, Limits, MeshSettings, Method, Progress, Resolution};
 use frep_wire::{Diagnostic, ShaderArtefact, ShaderUniform};
 use serde::{Deserialize, Serialize};
@@ -128,16 +128,6 @@ pub struct Kernel {
     models: Vec<Option<Entry>>,
 }
 
-/// The `-- bounds: x0,y0,z0,x1,y1,z1` line among the comment lines heading a
-/// source (frep-cli's rule, which the server follows too).
-pub fn bounds_from_source(source: &str) -> Option<[f64; 6]> {
-    source
-        .lines()
-        .take_while(|l| l.trim_start().starts_with("--") || l.trim().is_empty())
-        .find_map(|l| l.trim_start().strip_prefix("-- bounds:"))
-        .and_then(|b| parse_box(b.trim()).ok())
-}
-
 /// frep-core's diagnostic as frep-wire's (the server's conversion).
 fn wire_diagnostic(d: &frep_core::Diagnostic, source: &str) -> Diagnostic {
     Diagnostic {
@@ -183,13 +173,10 @@ impl Kernel {
         };
         let (bounds, origin) = if req.no_bounds {
             (None, "none")
-        } else if let Some(b) = bounds_from_source(source) {
-            (Some(b), "comment")
         } else {
-            match detect(&model, &Inputs::with_params(&req.params)) {
-                Some(b) => (Some(b), "extent"),
-                None => (Some(HFP_DEFAULT), "default"),
-            }
+            // The box rule of the command line and the server.
+            let (b, origin) = model_box(source, &model, &Inputs::with_params(&req.params));
+            (Some(b), origin.as_str())
         };
         let out = Compiled {
             ok: true,
