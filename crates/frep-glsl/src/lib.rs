@@ -374,6 +374,27 @@ fn json_str(out: &mut String, s: &str) {
 }
 
 impl Shader {
+    /// The shader and its uniform table as frep-wire's `ShaderArtefact`,
+    /// ray casting `bounds` (`[x0, y0, z0, x1, y1, z1]`).
+    #[cfg(feature = "wire")]
+    pub fn into_wire(self, bounds: [f64; 6]) -> frep_wire::ShaderArtefact {
+        frep_wire::ShaderArtefact {
+            source: self.source,
+            uniforms: self
+                .uniforms
+                .into_iter()
+                .map(|u| frep_wire::ShaderUniform {
+                    name: u.name,
+                    ty: u.ty,
+                    values: u.values,
+                    description: u.description,
+                })
+                .collect(),
+            bounds,
+            statements: self.stats.statements as u32,
+        }
+    }
+
     /// The uniforms as JSON:
     /// `{"uniforms":[{"name":…,"type":…,"values":[…],"description":…},…]}`
     /// (non-finite values, possible only for constants, are `null`).

@@ -13,7 +13,7 @@ use frep_core::{CompileOptions, Inputs, Model, PointEval};
 use frep_glsl::{shader_for_model, ShaderOptions};
 use frep_mesh::poly::bounds::{model_box, HFP_DEFAULT};
 use frep_mesh::{polygonize, CancelToken, Limits, MeshSettings, Method, Progress, Resolution};
-use frep_wire::{Diagnostic, ShaderArtefact, ShaderUniform};
+use frep_wire::{Diagnostic, ShaderArtefact};
 use serde::{Deserialize, Serialize};
 
 use crate::buffers;
@@ -356,21 +356,6 @@ impl Kernel {
             params: req.params.clone(),
             ..Default::default()
         };
-        let shader = shader_for_model(&e.model, &opts);
-        Ok(ShaderArtefact {
-            source: shader.source,
-            uniforms: shader
-                .uniforms
-                .into_iter()
-                .map(|u| ShaderUniform {
-                    name: u.name,
-                    ty: u.ty,
-                    values: u.values,
-                    description: u.description,
-                })
-                .collect(),
-            bounds: b,
-            statements: shader.stats.statements as u32,
-        })
+        Ok(shader_for_model(&e.model, &opts).into_wire(b))
     }
 }

@@ -5,7 +5,7 @@
 
 use frep_core::Inputs;
 use frep_glsl::{shader_for_model, ShaderOptions};
-use frep_wire::{ShaderArtefact, ShaderUniform};
+use frep_wire::ShaderArtefact;
 
 use crate::compiled::Compiled;
 
@@ -20,20 +20,5 @@ pub fn shader(compiled: &Compiled, inputs: &Inputs) -> ShaderArtefact {
         extra_x: inputs.extra_x.clone(),
         ..Default::default()
     };
-    let s = shader_for_model(compiled.model(), &opts);
-    ShaderArtefact {
-        source: s.source,
-        uniforms: s
-            .uniforms
-            .into_iter()
-            .map(|u| ShaderUniform {
-                name: u.name,
-                ty: u.ty,
-                values: u.values,
-                description: u.description,
-            })
-            .collect(),
-        bounds: b,
-        statements: s.stats.statements as u32,
-    }
+    shader_for_model(compiled.model(), &opts).into_wire(b)
 }
