@@ -15,7 +15,7 @@ import { type Checker, ServerChecker } from '../editor/checker';
 import { constructionTree, primitives } from '../editor/construction';
 import { formatConstant } from '../editor/constants';
 import { CodeEditor } from '../editor/editor';
-import type { CameraView, CompileResponse, CompileSummary, ModelRef, ModelSummary, Version } from '../wire';
+import type { CameraView, CompileResponse, CompileSummary, ModelDetail, ModelRef, ModelSummary, Version } from '../wire';
 import { confirmAction, notify } from './dialogs';
 import { h } from './dom';
 import { ExportsMenu } from './exports-menu';
@@ -66,6 +66,8 @@ export class Studio {
   private treeTimer: ReturnType<typeof setTimeout> | null = null;
   private hashTimer: ReturnType<typeof setTimeout> | null = null;
   private loading = 0;
+  /** The start's early fetch of the model the URL names. */
+  private prefetched: { id: string; detail: Promise<ModelDetail> } | null = null;
   private shownCount = 0;
 
   private constructor(root: HTMLElement, opts: StudioOptions) {
@@ -157,6 +159,14 @@ export class Studio {
   static async start(root: HTMLElement, opts: StudioOptions = {}): Promise<Studio> {
     const s = new Studio(root, opts);
     s.updateTitle();
+    // The model the URL names is fetched while the viewer's code loads.
+    const first = decodeState(location.hash).modelId;
+    if (first) {
+      const detail = s.api.getModel(first);
+      // Its failure is reported where it is awaited (open).
+      detail.catch(() => {});
+      s.prefetched = { id: first, detail };
+    }
     s.viewer = await mountViewer(s.layout.viewer, s.api, DEFAULT_CAMERA);
     s.viewer.onCameraChange((c) => {
       s.camera = c;
@@ -205,7 +215,9 @@ export class Studio {
   private async open(id: string, version: number | null, fromRestore: boolean): Promise<void> {
     const ticket = ++this.loading;
     try {
-      const detail = await this.api.getModel(id);
+      const pre = this.prefetched?.id === id ? this.prefetched.detail : null;
+      this.prefetched = null;
+      const detail = await (pre ?? this.api.getModel(id));
       const v = version === null || version === detail.version.number ? detail.version : await this.api.getVersion(id, version);
       if (ticket !== this.loading) return;
       this.model = detail.model;
