@@ -1,14 +1,17 @@
 /**
  * Vite: builds the studio into web/dist (served by `frep serve`), and in
  * development proxies /api (HTTP and the session WebSocket) to a server on
- * 127.0.0.1:8080 (FREP_DEV_API overrides). Vitest runs the unit tests under
+ * 127.0.0.1:8080 (FREP_DEV_API overrides). The build is precompressed
+ * (build/precompress.ts). Vitest runs the unit tests under
  * tests/unit with no browser.
  */
 import { defineConfig } from 'vitest/config';
+import { precompress } from './build/precompress';
 
 const api = process.env.FREP_DEV_API ?? 'http://127.0.0.1:8080';
 
 export default defineConfig({
+  plugins: [precompress()],
   build: {
     outDir: 'dist',
     emptyOutDir: true,

@@ -98,7 +98,9 @@ pub fn router(state: AppState) -> Router {
 
 /// The built studio: its hashed `assets/` immutable, everything else
 /// (`index.html`, also for the studio's own client-side paths) revalidated
-/// on every load so that a new build is picked up.
+/// on every load so that a new build is picked up. The build writes `.br`
+/// and `.gz` beside each file (web/build/precompress.ts); they are sent
+/// where the client accepts them, so nothing is compressed per request.
 fn studio(api: Router<AppState>, dir: &Path) -> Router<AppState> {
     let assets = ServiceBuilder::new()
         .layer(SetResponseHeaderLayer::if_not_present(
@@ -109,13 +111,26 @@ fn studio(api: Router<AppState>, dir: &Path) -> Router<AppState> {
                     .then(|| HeaderValue::from_static(IMMUTABLE))
             },
         ))
-        .service(ServeDir::new(dir.join("assets")));
+        .service(
+            ServeDir::new(dir.join("assets"))
+                .precompressed_br()
+                .precompressed_gzip(),
+        );
     let rest = ServiceBuilder::new()
         .layer(SetResponseHeaderLayer::if_not_present(
             header::CACHE_CONTROL,
             HeaderValue::from_static("no-cache"),
         ))
-        .service(ServeDir::new(dir).fallback(ServeFile::new(dir.join("index.html"))));
+        .service(
+            ServeDir::new(dir)
+                .precompressed_br()
+                .precompressed_gzip()
+                .fallback(
+                    ServeFile::new(dir.join("index.html"))
+                        .precompressed_br()
+                        .precompressed_gzip(),
+                ),
+        );
     api.nest_service("/assets", assets).fallback_service(rest)
 }
 

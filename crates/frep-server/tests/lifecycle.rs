@@ -113,6 +113,9 @@ async fn a_built_studio_is_served_with_an_index_fallback() {
     )
     .unwrap();
     std::fs::write(studio.join("assets/app.js"), "console.log('frep');").unwrap();
+    // What the build writes beside it (web/build/precompress.ts); the server
+    // sends it as it is, so distinct bytes show which file was sent.
+    std::fs::write(studio.join("assets/app.js.br"), b"brotli bytes").unwrap();
     let mut c = config(&dir.path().join("data"));
     c.static_dir = Some(studio);
     let s = Server::start(c).await;
@@ -126,6 +129,29 @@ async fn a_built_studio_is_served_with_an_index_fallback() {
         .to_str()
         .unwrap()
         .contains("immutable"));
+    assert_eq!(r.text().await.unwrap(), "console.log('frep');");
+    let r = s
+        .client
+        .get(s.url("/assets/app.js"))
+        .header("accept-encoding", "gzip, br")
+        .send()
+        .await
+        .unwrap();
+    assert_eq!(r.headers()["content-encoding"], "br");
+    assert!(r.headers()["content-type"]
+        .to_str()
+        .unwrap()
+        .contains("javascript"));
+    assert_eq!(&r.bytes().await.unwrap()[..], b"brotli bytes");
+    // No .gz beside it: a gzip-only client gets the plain file.
+    let r = s
+        .client
+        .get(s.url("/assets/app.js"))
+        .header("accept-encoding", "gzip")
+        .send()
+        .await
+        .unwrap();
+    assert!(r.headers().get("content-encoding").is_none());
     assert_eq!(r.text().await.unwrap(), "console.log('frep');");
     let r = get("/assets/missing.js").await.unwrap();
     assert_eq!(r.status(), StatusCode::NOT_FOUND);
