@@ -55,7 +55,7 @@ pub use image::{
 pub use progressive::{upscale_nearest, ProgressivePlan, ProgressiveStep};
 pub use raycast::{
     render, render_camera, render_hits, render_with, CastStats, ModelCaster, RenderError,
-    RenderSettings,
+    RenderSettings, Section, SectionError, SECTION_CAP,
 };
 pub use slices::{sample_grid, write_slices, Grid, SliceIndex, SliceOptions};
 pub use tiles::{cast_tiled, Tile, TileCaster};

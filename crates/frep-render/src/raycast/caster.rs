@@ -17,6 +17,7 @@ use super::csg::Csg;
 use super::frustum::iv;
 use super::rays::{clip_box, depth_range, Corners};
 use super::scratch::Scratch;
+use super::section::{sectioned_tape, Section, SectionError, SECTION_CAP};
 use super::tile::TileCtx;
 
 /// Counters of the work a caster did (for pruning regression checks).
@@ -61,6 +62,8 @@ pub struct ModelCaster {
     pub(super) attr_tape: Option<Tape>,
     pub(super) inputs: Inputs,
     pub(super) bounds: Aabb,
+    /// The section plane the tape is cut by (normalized), if any.
+    pub(super) section: Option<Section>,
     cancel: Option<Arc<AtomicBool>>,
     /// Sampling step along rays in leaves, in pixel footprints (default 2;
     /// thinner features are found by the thin-feature search).
@@ -140,6 +143,34 @@ impl ModelCaster {
         }
     }
 
+    /// A caster of `model` cut by `section` (see [`Section`]): the field
+    /// cast is the model's intersected with the kept half-space, and the
+    /// cut face of a model without colours gets [`SECTION_CAP`]. `None`:
+    /// [`ModelCaster::new`]. An error where the plane is not one.
+    pub fn sectioned(
+        model: &Model,
+        inputs: Inputs,
+        bounds: Aabb,
+        section: Option<&Section>,
+    ) -> Result<ModelCaster, SectionError> {
+        let Some(section) = section else {
+            return Ok(ModelCaster::new(model, inputs, bounds));
+        };
+        let section = section.normalized()?;
+        Ok(ModelCaster {
+            attr_tape: model
+                .attribute_tape()
+                .filter(|t| model.s_dim >= 3 && t.outputs.len() >= 3),
+            section: Some(section),
+            ..ModelCaster::from_tape(sectioned_tape(model, &section), inputs, bounds)
+        })
+    }
+
+    /// The section plane the model is cut by (normalized), if any.
+    pub fn section(&self) -> Option<&Section> {
+        self.section.as_ref()
+    }
+
     /// A caster of a bare tape (output 0 is the field, positive inside).
     pub fn from_tape(tape: Tape, inputs: Inputs, bounds: Aabb) -> ModelCaster {
         let csg_tree = Csg::of(&tape, &inputs, &bounds);
@@ -148,6 +179,7 @@ impl ModelCaster {
             attr_tape: None,
             inputs,
             bounds,
+            section: None,
             cancel: None,
             step_px: 2.0,
             fallback_depth: 3,
@@ -320,11 +352,32 @@ impl ModelCaster {
             ctx.run();
             (ctx.stats, ctx.any_hit)
         };
+        if any_hit {
+            self.color_caps(camera, tile, out);
+        }
         // The tile's own check.
         stats.interval_evals += 1;
         self.put_scratch(scratch);
         self.add_stats(&stats);
         any_hit
+    }
+
+    /// Gives the cut face's hits that have no attribute colour
+    /// [`SECTION_CAP`] (hits within a pixel footprint of the plane, with
+    /// its normal).
+    fn color_caps(&self, camera: &Camera, tile: &Tile, out: &mut [Option<Hit>]) {
+        let Some(s) = &self.section else { return };
+        for h in out.iter_mut().flatten() {
+            let tol = camera.pixel_footprint(h.t, tile.width, tile.height);
+            // (A colour not defined there shows the cap's, as on the client.)
+            let no_color = match h.color {
+                None => true,
+                Some(c) => c.iter().any(|v| v.is_nan()),
+            };
+            if no_color && s.is_on_cap(h, tol.max(1e-12)) {
+                h.color = Some(SECTION_CAP);
+            }
+        }
     }
 
     /// A [`Scratch`] from the pool (the one this thread last used where it

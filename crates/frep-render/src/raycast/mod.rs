@@ -137,7 +137,8 @@
 //! subdivision, step 1), `exact` (quadrics and planes in closed form),
 //! `leaf` (leaf sampling, step 2; rays along walls, step 4), `search` (the
 //! thin-feature search, step 3), `refine` (refinement of brackets) and
-//! `normals` (normals and colours, step 5).
+//! `normals` (normals and colours, step 5), `section` (the section plane:
+//! the model cut by a half-space, the cut face's colour).
 //!
 //! [`TileCaster`]: crate::tiles::TileCaster
 //! [`Model`]: frep_core::Model
@@ -164,11 +165,13 @@ mod refine;
 mod render;
 mod scratch;
 mod search;
+mod section;
 mod settings;
 mod tile;
 
 pub use caster::{CastStats, ModelCaster};
 pub use render::{render, render_camera, render_hits, render_with};
+pub use section::{sectioned_tape, Section, SectionError, SECTION_CAP};
 pub use settings::{RenderError, RenderSettings};
 
 /// An interval evaluation costs about this many point evaluations (in a

@@ -19,12 +19,18 @@ fn make_caster(
     model: &Model,
     settings: &RenderSettings,
     cancel: Option<&Arc<AtomicBool>>,
-) -> ModelCaster {
-    let caster = ModelCaster::new(model, settings.inputs.clone(), settings.bounds);
-    match cancel {
+) -> Result<ModelCaster, RenderError> {
+    let caster = ModelCaster::sectioned(
+        model,
+        settings.inputs.clone(),
+        settings.bounds,
+        settings.section.as_ref(),
+    )
+    .map_err(|e| RenderError::BadSection(e.to_string()))?;
+    Ok(match cancel {
         Some(c) => caster.with_cancel(c.clone()),
         None => caster,
-    }
+    })
 }
 
 /// Casts the rays of `settings` and returns every hit (with ambient
@@ -36,7 +42,7 @@ pub fn render_hits(
 ) -> Result<HitBuffer, RenderError> {
     let (w, h) = settings.size;
     check_size(w, h)?;
-    let caster = make_caster(model, settings, cancel);
+    let caster = make_caster(model, settings, cancel)?;
     let cam = settings.camera();
     let mut hits = cast_tiled(&caster, &cam, w, h, settings.tile_size.max(1));
     if is_cancelled(cancel) {
@@ -71,12 +77,13 @@ pub fn render_camera(
     camera: &Camera,
     cancel: Option<&Arc<AtomicBool>>,
 ) -> Result<Image, RenderError> {
-    let caster = make_caster(model, settings, cancel);
+    let caster = make_caster(model, settings, cancel)?;
     render_with(&caster, settings, camera, cancel)
 }
 
 /// [`render_camera`] with a prepared caster (whose [`CastStats`] then count
-/// this render).
+/// this render; its section plane, not `settings.section`, is the one cut:
+/// [`ModelCaster::sectioned`]).
 ///
 /// [`CastStats`]: crate::raycast::CastStats
 pub fn render_with(
@@ -105,7 +112,10 @@ pub fn render_with(
     let closed_form = caster
         .csg_tree
         .as_ref()
-        .filter(|_| caster.csg && caster.attr_tape.is_none() && !settings.ao);
+        .filter(|_| caster.csg && caster.attr_tape.is_none() && !settings.ao)
+        // (Shaded straight from the solution: the cut face would miss its
+        // colour.)
+        .filter(|_| caster.section.is_none());
     for_each_dynamic(
         work,
         || (None::<BatchEval>, Vec::<Option<Hit>>::new(), false),

@@ -9,6 +9,7 @@ use frep_core::eval::Inputs;
 use crate::camera::{Aabb, Camera};
 use crate::image::Lighting;
 
+use super::section::Section;
 use super::{MAX_PIXELS, MAX_SIDE};
 
 /// What to render.
@@ -34,6 +35,8 @@ pub struct RenderSettings {
     pub tile_size: u32,
     /// The lights.
     pub lighting: Lighting,
+    /// A section plane cutting the solid open (`None`: the whole model).
+    pub section: Option<Section>,
 }
 
 impl Default for RenderSettings {
@@ -49,6 +52,7 @@ impl Default for RenderSettings {
             inputs: Inputs::default(),
             tile_size: 32,
             lighting: Lighting::default(),
+            section: None,
         }
     }
 }
@@ -72,6 +76,10 @@ pub enum RenderError {
         /// Requested height.
         height: u32,
     },
+    /// The section plane is not a plane (see [`SectionError`]).
+    ///
+    /// [`SectionError`]: super::SectionError
+    BadSection(String),
 }
 
 impl std::fmt::Display for RenderError {
@@ -82,6 +90,7 @@ impl std::fmt::Display for RenderError {
                 f,
                 "image size {width}x{height} is outside 1..={MAX_SIDE} a side, {MAX_PIXELS} pixels in all"
             ),
+            RenderError::BadSection(why) => write!(f, "{why}"),
         }
     }
 }
