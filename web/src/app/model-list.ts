@@ -42,6 +42,8 @@ export class ModelList {
   private thumbQueue: (() => Promise<void>)[] = [];
   private thumbsRunning = 0;
   private readonly thumbs = new Map<string, string>();
+  /** Thumbnails wait for this (the first display: both need the server's renderers). */
+  private held: Promise<unknown> = Promise.resolve();
 
   constructor(
     private readonly api: Api,
@@ -138,11 +140,16 @@ export class ModelList {
     this.pump();
   }
 
+  /** Holds thumbnail requests until `gate` settles. */
+  holdThumbnails(gate: Promise<unknown>): void {
+    this.held = gate.catch(() => {});
+  }
+
   private pump(): void {
     while (this.thumbsRunning < 2 && this.thumbQueue.length) {
       const job = this.thumbQueue.shift()!;
       this.thumbsRunning++;
-      void job().finally(() => {
+      void this.held.then(job).finally(() => {
         this.thumbsRunning--;
         this.pump();
       });

@@ -31,6 +31,9 @@ import { DEFAULT_CAMERA, type StudioViewer, mountViewer } from './viewer-port';
 import { WasmChecker } from '../wasm/checker';
 import { sharedKernelReady } from '../wasm/client';
 
+/** The longest the kernel and thumbnails wait for the first display (ms). */
+const START_WAIT_MS = 3000;
+
 /** Options of {@link Studio.start}. */
 export interface StudioOptions {
   /** API origin ('' for the page's own). */
@@ -66,15 +69,24 @@ export class Studio {
   private treeTimer: ReturnType<typeof setTimeout> | null = null;
   private hashTimer: ReturnType<typeof setTimeout> | null = null;
   private loading = 0;
+  /** Settles at the viewer's first display, or after START_WAIT_MS. */
+  private readonly started: Promise<void>;
+  private markStarted: () => void = () => {};
   /** The start's early fetch of the model the URL names. */
   private prefetched: { id: string; detail: Promise<ModelDetail> } | null = null;
   private shownCount = 0;
 
   private constructor(root: HTMLElement, opts: StudioOptions) {
     this.api = new Api(opts.apiBase ?? '');
+    this.started = new Promise<void>((ok) => {
+      this.markStarted = ok;
+      setTimeout(ok, START_WAIT_MS);
+    });
     // The kernel in the worker answers sources with errors at once (no
     // round trip); sources that compile go on to the server for their summary.
-    const checker = opts.checker ?? new WasmChecker(new ServerChecker(this.api), sharedKernelReady);
+    // The kernel starts after the first display, as do the thumbnails:
+    // both would take a core (or the server's renderers) it needs.
+    const checker = opts.checker ?? new WasmChecker(new ServerChecker(this.api), sharedKernelReady, this.started);
     this.layout = buildLayout(root);
     this.editor = new CodeEditor(this.layout.editor, {
       checker,
@@ -168,6 +180,9 @@ export class Studio {
       s.prefetched = { id: first, detail };
     }
     s.viewer = await mountViewer(s.layout.viewer, s.api, DEFAULT_CAMERA);
+    s.list.holdThumbnails(s.started);
+    if (first && s.viewer.firstDisplayed) void s.viewer.firstDisplayed().then(s.markStarted);
+    else s.markStarted();
     s.viewer.onCameraChange((c) => {
       s.camera = c;
       s.scheduleHash();
@@ -176,7 +191,8 @@ export class Studio {
     window.addEventListener('beforeunload', (e) => {
       if (s.isDirty()) e.preventDefault();
     });
-    void s.list.refresh();
+    // The list (its rendering takes tens of ms) follows the first display.
+    void s.started.then(() => s.list.refresh());
     await s.route();
     return s;
   }

@@ -37,6 +37,8 @@ export interface StudioViewer {
   onCameraChange(cb: (camera: CameraView) => void): () => void;
   /** Progress of an artefact the session computes (0..1), when known. */
   onProgress?(cb: (key: string, fraction: number) => void): () => void;
+  /** Resolves at the first display (of any model). */
+  firstDisplayed?(): Promise<void>;
   dispose?(): void;
 }
 

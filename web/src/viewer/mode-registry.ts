@@ -34,6 +34,14 @@ export async function createModeView(mode: Mode): Promise<ModeView | null> {
 }
 
 /**
+ * Starts loading the code of `mode` (no view is created), so that it is
+ * there when a request needs it; failures surface in {@link createModeView}.
+ */
+export function preloadMode(mode: Mode): void {
+  for (const file of candidateFiles(mode)) void modules[file]().catch(() => {});
+}
+
+/**
  * What to show instead of `mode` when it is missing or fails: client modes
  * fall back to the server mesh (with WebGL) and then to the still; the
  * still has no fallback.

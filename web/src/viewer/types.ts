@@ -90,6 +90,8 @@ export interface Viewer {
   setOverride(mode: Mode | null): void;
   /** Resolves when the current request has been displayed. */
   whenDisplayed(): Promise<void>;
+  /** Resolves at the viewer's first display (of any model). */
+  firstDisplayed(): Promise<void>;
   /** Releases the socket, GL contexts and listeners. */
   dispose(): void;
 }

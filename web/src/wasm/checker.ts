@@ -5,6 +5,9 @@
  * compiles goes on to the server for its summary (parameter names and
  * ranges, the graph hash, the decision's figures), which only the server
  * has. When the kernel cannot load, every check goes to the server.
+ *
+ * The kernel can be started late (`after`): compiling it takes a core
+ * that the first display needs. Until it starts, checks go to the server.
  */
 import type { Checker } from '../editor/checker';
 import type { CompileResponse } from '../wire';
@@ -12,19 +15,22 @@ import type { KernelClient } from './client';
 import { KernelCancelled } from './client';
 
 export class WasmChecker implements Checker {
-  private kernel: Promise<KernelClient | null>;
+  private kernel: Promise<KernelClient | null> | null = null;
   /** Checks answered by the kernel alone (for the tests and the panel). */
   localAnswers = 0;
 
   constructor(
     private readonly server: Checker,
     kernel: () => Promise<KernelClient>,
+    after?: Promise<unknown>,
   ) {
-    this.kernel = kernel().catch(() => null);
+    const start = () => (this.kernel = kernel().catch(() => null));
+    if (after) void after.catch(() => {}).then(start);
+    else start();
   }
 
   async check(source: string, params: number[], signal?: AbortSignal): Promise<CompileResponse> {
-    const k = await this.kernel;
+    const k = this.kernel ? await this.kernel : null;
     if (k) {
       try {
         const d = await k.diagnose(source);

@@ -41,6 +41,37 @@ describe.skipIf(!wasmAvailable())('WasmChecker', () => {
     expect(server.calls).toHaveLength(1);
   });
 
+  it('starts the kernel only after its gate; until then the server checks', async () => {
+    const kernel = await loadKernel();
+    const fake: WorkerLike = { onmessage: null, postMessage: (m) => void host.handle(m), terminate: () => undefined };
+    const host = new KernelHost(kernel, (r) => fake.onmessage?.({ data: r } as MessageEvent<KernelResponse>));
+    const client = new KernelClient(fake);
+    const server = fakeServer();
+    let open = () => {};
+    const gate = new Promise<void>((ok) => (open = ok));
+    let started = 0;
+    const checker = new WasmChecker(
+      server,
+      async () => {
+        started++;
+        return client;
+      },
+      gate,
+    );
+    const bad = 'my_model(x[3], a[1]) {\n  my_model = 1 +;\n}';
+    await checker.check(bad, []);
+    expect(started).toBe(0);
+    expect(server.calls).toEqual([bad]);
+    open();
+    await gate;
+    await new Promise((ok) => setTimeout(ok, 0));
+    expect(started).toBe(1);
+    const r = await checker.check(bad, []);
+    expect(r.diagnostics[0]!.line).toBe(2);
+    expect(server.calls).toHaveLength(1);
+    expect(checker.localAnswers).toBe(1);
+  });
+
   it('leaves every check to the server when the kernel cannot load', async () => {
     const server = fakeServer();
     const checker = new WasmChecker(server, () => Promise.reject(new Error('no wasm')));
