@@ -20,6 +20,8 @@ import { decodeImage, fetchArtefact, isAbort } from './artefact';
 
 /** Limits of a still (device pixels). */
 const MAX_SIDE = 2048;
+/** Parameters unchanged this long are at rest: the full still follows (ms). */
+const PARAMS_REST_MS = 200;
 
 type Drawable = ImageBitmap | HTMLImageElement;
 
@@ -60,10 +62,24 @@ class StillView implements ModeView {
   }
 
   async show(model: ModeModel): Promise<void> {
+    const prev = this.model;
     this.model = model;
     this.frames.reset();
-    const bytes = await this.fetchStill(this.ctx.camera(), false, model.signal);
-    if (bytes !== null) this.ctx.displayed(bytes);
+    // New parameter values of the model shown (a slider being dragged):
+    // a reduced still first, as while orbiting, and the full one once the
+    // values rest. The engine learns only from full-size displays.
+    const dragging = prev !== null && this.shownCamera !== null && prev.show.source === model.show.source && !sameValues(prev.show.params, model.show.params);
+    const bytes = await this.fetchStill(this.ctx.camera(), dragging, model.signal);
+    if (bytes === null) return;
+    if (!dragging) {
+      this.ctx.displayed(bytes);
+      return;
+    }
+    if (this.stillTimer) clearTimeout(this.stillTimer);
+    this.stillTimer = setTimeout(() => {
+      this.stillTimer = null;
+      if (this.model === model) this.refreshStill();
+    }, PARAMS_REST_MS);
   }
 
   setCamera(c: CameraView): void {
@@ -194,7 +210,13 @@ class StillView implements ModeView {
     if ('close' in img) img.close();
     this.shownCamera = camera;
     this.shownReduced = reduced;
+    // Whether the picture is a reduced one (tests and the bench read it).
+    this.canvas.dataset.reduced = reduced ? '1' : '0';
   }
+}
+
+function sameValues(a: readonly number[], b: readonly number[]): boolean {
+  return a.length === b.length && a.every((v, i) => v === b[i]);
 }
 
 /** Mode 1. */
