@@ -108,6 +108,11 @@ impl EngineConfig {
             "correction.maxFactor",
             "must be ≥ 1",
         )?;
+        check(
+            c.correction.max_orbit_factor >= 1.0,
+            "correction.maxOrbitFactor",
+            "must be ≥ 1",
+        )?;
         let w = &c.weights;
         let weights = [
             w.first,

@@ -10,6 +10,12 @@
 //! Each factor is a moving average in log space (a 3× and a ⅓× report
 //! cancel out), each ratio clamped to `[1/max_ratio, max_ratio]` (one absurd
 //! report cannot take over) and the factor to `[1/max_factor, max_factor]`.
+//!
+//! Frame times get a far wider clamp (`max_orbit_factor`, both bounds).
+//! The client measures the very thing predicted, and the prior can be off
+//! by hundreds: the GPU benchmark draws a tiny shader, a model's shader may
+//! be slow on the same card. A narrow clamp would keep a mode that draws at
+//! 2 fps looking fast enough to stay.
 
 use frep_wire::Mode;
 use serde::Serialize;
@@ -24,6 +30,8 @@ pub struct CorrectionConfig {
     pub max_ratio: f64,
     /// Clamp of the factor (≥ 1).
     pub max_factor: f64,
+    /// Clamp of an orbit ratio and factor (≥ 1).
+    pub max_orbit_factor: f64,
 }
 
 impl Default for CorrectionConfig {
@@ -32,6 +40,7 @@ impl Default for CorrectionConfig {
             alpha: 0.5,
             max_ratio: 10.0,
             max_factor: 5.0,
+            max_orbit_factor: 1000.0,
         }
     }
 }
@@ -53,13 +62,21 @@ impl Factor {
     }
 
     /// Folds in one observation; ignored unless both times are positive
-    /// and finite.
-    pub fn observe(&mut self, actual: f64, predicted: f64, config: &CorrectionConfig) {
+    /// and finite. The ratio is clamped to `max_ratio`, the factor to
+    /// `max_factor` (both ≥ 1, either way).
+    pub fn observe(
+        &mut self,
+        actual: f64,
+        predicted: f64,
+        config: &CorrectionConfig,
+        max_ratio: f64,
+        max_factor: f64,
+    ) {
         if !(actual.is_finite() && predicted.is_finite() && actual > 0.0 && predicted > 0.0) {
             return;
         }
-        let max_r = config.max_ratio.ln();
-        let max_f = config.max_factor.ln();
+        let max_r = max_ratio.ln();
+        let max_f = max_factor.ln();
         let r = (actual / predicted).ln().clamp(-max_r, max_r);
         // The first observation is taken whole: the prior (1.0) is a guess.
         let alpha = if self.samples == 0 { 1.0 } else { config.alpha };
@@ -118,17 +135,25 @@ impl Corrections {
     /// A displayed time against the uncorrected prediction.
     pub fn observe_first_display(&mut self, mode: Mode, actual_ms: f64, predicted_ms: f64) {
         let config = self.config;
-        self.modes[mode_index(mode)]
-            .first_display
-            .observe(actual_ms, predicted_ms, &config);
+        self.modes[mode_index(mode)].first_display.observe(
+            actual_ms,
+            predicted_ms,
+            &config,
+            config.max_ratio,
+            config.max_factor,
+        );
     }
 
     /// A frame time against the uncorrected prediction.
     pub fn observe_orbit(&mut self, mode: Mode, actual_ms: f64, predicted_ms: f64) {
         let config = self.config;
-        self.modes[mode_index(mode)]
-            .orbit
-            .observe(actual_ms, predicted_ms, &config);
+        self.modes[mode_index(mode)].orbit.observe(
+            actual_ms,
+            predicted_ms,
+            &config,
+            config.max_orbit_factor,
+            config.max_orbit_factor,
+        );
     }
 }
 

@@ -290,3 +290,33 @@ fn a_model_too_heavy_for_a_modest_gpu_is_not_ray_cast_there() {
     let d = engine().connect(workstation(), lan(), model(2000), 0);
     assert!(prediction(&d, Mode::GpuRaycast).orbit_ms < gpu.orbit_ms);
 }
+
+#[test]
+fn slow_frames_downgrade_even_when_the_gpu_bench_promised_far_more() {
+    // The GPU benchmark says 0.02 ms a frame (a tiny shader on a fast
+    // card), but the model's shader draws at 2 fps: 250× slower than
+    // predicted, beyond any prior's correction. Measured frames decide.
+    let mut e = engine();
+    let mut fast = workstation();
+    fast.gpu_bench_ms = Some(0.02);
+    let d0 = e.connect(fast, lan(), model(80), 0);
+    assert_eq!(d0.mode, Mode::GpuRaycast);
+    let mut last = None;
+    for t in (500..=6_000).step_by(500) {
+        if let Some(d) = e.frame_rate(Mode::GpuRaycast, 2.0, t) {
+            last = Some((t, d));
+            break;
+        }
+    }
+    let (t, d) = last.expect("two seconds of 2 fps frames downgrade");
+    assert!(t <= 3_000, "downgraded only at {t} ms");
+    assert_eq!(d.trigger, "slowFrames");
+    assert!(
+        d.mode != Mode::GpuRaycast || d.settings.width < d0.settings.width,
+        "{:?} {}×{}: {}",
+        d.mode,
+        d.settings.width,
+        d.settings.height,
+        d.reason
+    );
+}
