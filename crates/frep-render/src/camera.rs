@@ -1,16 +1,18 @@
 //! Cameras: a turntable orbit that frames a bounding box, primary rays through
 //! pixel centres, and the frustum of a pixel rectangle (for tile pruning).
 //!
-//! Conventions: world **z is up**. At yaw 0 and pitch 0 the eye looks along +y
-//! (it sits on the −y side of the box), with +x to the right of the image and
-//! +z up. Yaw turns the eye counter-clockwise around z seen from above (yaw 90°
-//! puts the eye on +x, looking along −x, with +y to the right); pitch raises
-//! the eye above the xy plane (pitch 90° looks straight down).
-//!
-//! Pixel `(px, py)` has its centre at `(px + 0.5, py + 0.5)` in image
-//! coordinates; x grows to the right and y grows **down** the image. The field
-//! of view (perspective) and the extent (orthographic) apply to the *shorter*
-//! side of the image, so the framed box fits whatever the aspect ratio.
+//! Conventions:
+//! - World **z is up**.
+//! - At yaw 0 and pitch 0 the eye sits on the −y side of the box and looks
+//!   along +y. +x is to the right of the image and +z up.
+//! - Yaw turns the eye counter-clockwise around z, seen from above. Yaw 90°
+//!   puts the eye on +x, looking along −x, with +y to the right.
+//! - Pitch raises the eye above the xy plane. Pitch 90° looks straight down.
+//! - Pixel `(px, py)` has its centre at `(px + 0.5, py + 0.5)` in image
+//!   coordinates. x grows to the right and y grows **down** the image.
+//! - The field of view (perspective) and the extent (orthographic) apply to
+//!   the *shorter* side of the image. So the framed box fits whatever the
+//!   aspect ratio.
 
 use serde::{Deserialize, Serialize};
 
@@ -244,9 +246,9 @@ impl Camera {
         self.rays(width, height).ray_at(x, y)
     }
 
-    /// The rays of a `width`×`height` image with the per-image constants
-    /// (the field of view's tangent, the scale) computed once: the same rays
-    /// as [`Camera::ray_at`], bit for bit, for callers that make many.
+    /// The rays of a `width`×`height` image, for callers that make many.
+    /// The per-image constants (the field of view's tangent, the scale) are
+    /// computed once. The rays are [`Camera::ray_at`]'s, bit for bit.
     pub fn rays(&self, width: u32, height: u32) -> RayMaker {
         let s = 0.5 * width.min(height).max(1) as f64;
         let (k, footprint) = match self.projection {
@@ -342,11 +344,11 @@ impl RayMaker {
     }
 
     /// The rays through the centres of the `L` pixels from `(x0, py)` along
-    /// row `py`, as lanes (`origin[k][j]`, `dir[k][j]`): the rays of
-    /// [`RayMaker::ray`], bit for bit, with the row's terms computed once
-    /// and the lanes in one pass (which the compiler turns into vector
-    /// code). Pixels past the image's edge get the rays their coordinates
-    /// give; callers ignore them.
+    /// row `py`, as lanes (`origin[k][j]`, `dir[k][j]`). They are the rays
+    /// of [`RayMaker::ray`], bit for bit. The row's terms are computed once,
+    /// and the lanes in one pass that the compiler turns into vector code.
+    /// Pixels past the image's edge get the rays their coordinates give;
+    /// callers ignore them.
     // (The lane passes index several arrays at once.)
     #[allow(clippy::needless_range_loop)]
     #[inline(always)]
@@ -397,20 +399,20 @@ impl RayMaker {
     }
 
     /// The per-column terms of an orthographic view's origins for columns
-    /// `x0..x0 + out.len()` (see [`RayMaker::ortho_row_origins`]), which
-    /// every row shares: worked out once per tile, not per row (a division
-    /// each).
+    /// `x0..x0 + out.len()` (see [`RayMaker::ortho_row_origins`]). Every row
+    /// shares them, so they are worked out once per tile, not per row. Each
+    /// costs a division.
     pub fn ortho_columns(&self, x0: u32, out: &mut [f64]) {
         for (j, uk) in out.iter_mut().enumerate() {
             *uk = (f64::from(x0) + j as f64 + 0.5 - self.hw) / self.s * self.k;
         }
     }
 
-    /// The origins of the `L` rays of columns `uk` (their terms from
-    /// [`RayMaker::ortho_columns`]) along row `py` of an orthographic view,
-    /// as lanes (`origin[k][j]`): [`RayMaker::row_lanes`]' origins, bit for
-    /// bit, without the directions (every ray's is the camera's axis).
-    /// Only for orthographic views.
+    /// The origins of the `L` rays of columns `uk` along row `py` of an
+    /// orthographic view, as lanes (`origin[k][j]`). `uk` holds their terms
+    /// from [`RayMaker::ortho_columns`]. The origins are
+    /// [`RayMaker::row_lanes`]', bit for bit. The directions are left out:
+    /// every ray's is the camera's axis. Only for orthographic views.
     // (The lane passes index several arrays at once.)
     #[allow(clippy::needless_range_loop)]
     #[inline(always)]

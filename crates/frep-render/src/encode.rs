@@ -1,7 +1,11 @@
-//! Image encoders: PNG (`png`, fast compression), JPEG (`jpeg-encoder`) and
-//! lossy WebP (libwebp through the `webp` crate, behind the default `webp`
-//! feature; the pure-Rust `image-webp` only writes lossless WebP, which is
-//! several times larger for rendered images).
+//! Image encoders:
+//! - PNG (`png`, fast compression);
+//! - JPEG (`jpeg-encoder`);
+//! - lossy WebP (libwebp through the `webp` crate, behind the default `webp`
+//!   feature).
+//!
+//! The pure-Rust `image-webp` only writes lossless WebP, which is several
+//! times larger for rendered images.
 
 use std::fmt;
 use std::path::Path;

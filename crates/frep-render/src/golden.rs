@@ -2,10 +2,10 @@
 
 use crate::image::HitBuffer;
 
-/// The hit mask of `hits` on a `cols`×`rows` character grid: each cell
-/// covers a block of pixels and is `#` where more than half of them hit the
-/// surface, `.` otherwise (a cell smaller than a pixel uses the pixel under
-/// its centre); one line per row, each ending with `\n`.
+/// The hit mask of `hits` on a `cols`×`rows` character grid, one line per
+/// row, each ending with `\n`. Each cell covers a block of pixels. It is `#`
+/// where more than half of them hit the surface, `.` otherwise. A cell
+/// smaller than a pixel uses the pixel under its centre.
 pub fn ascii_mask(hits: &HitBuffer, cols: u32, rows: u32) -> String {
     let mut s = String::with_capacity(((cols + 1) * rows) as usize);
     if hits.width == 0 || hits.height == 0 {

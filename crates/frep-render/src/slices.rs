@@ -2,10 +2,11 @@
 //! writing it as a PNG stack and an 8-bit 3D texture with a JSON sidecar.
 //!
 //! Field convention (HyperFun): positive inside, zero on the surface.
-//! Byte mapping: byte `b` ↔ field value `v = (b − 128) / 127 × scale`, so the
-//! surface is mid-grey 128, inside is bright and outside dark; values beyond
-//! ±`scale` are clamped to 1 and 255, and byte 0 is kept for samples where the
-//! model failed (NaN), which read as outside.
+//! Byte mapping: byte `b` ↔ field value `v = (b − 128) / 127 × scale`.
+//! - The surface is mid-grey 128, inside is bright and outside dark.
+//! - Values beyond ±`scale` are clamped to 1 and 255.
+//! - Byte 0 is kept for samples where the model failed (NaN), which read as
+//!   outside.
 
 use std::io;
 use std::path::Path;
@@ -97,10 +98,10 @@ impl Grid {
 
 /// Samples `f` at the voxel centres of an `n[0]×n[1]×n[2]` grid over
 /// `bounds`. `f(xs, ys, zs, out)` evaluates a batch (one z slice,
-/// `n[0] * n[1]` points, x fastest) and writes one value per point; slices
+/// `n[0] * n[1]` points, x fastest) and writes one value per point. Slices
 /// run in parallel (rayon). Each row of `n[0]` points of a batch has one
-/// `y` and one `z`, and every row the same `x`s (the same bits): a batch is
-/// a grid of lines along x, for
+/// `y` and one `z`, and every row the same `x`s (the same bits). So a batch
+/// is a grid of lines along x, for
 /// [`BatchEval::eval_lines`](frep_core::eval::batch::BatchEval::eval_lines)
 /// `(0, n[0], true, ..)`.
 pub fn sample_grid<F>(bounds: &Aabb, n: [usize; 3], f: F) -> Grid

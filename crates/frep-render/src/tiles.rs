@@ -1,6 +1,6 @@
-//! The seam where the ray caster plugs in: the image is cut into tiles, each
-//! tile is cast by a [`TileCaster`] (which may prune it with the tile's
-//! [`Frustum`] and interval arithmetic), and tiles run in parallel with rayon.
+//! The seam where the ray caster plugs in. The image is cut into tiles, and
+//! tiles run in parallel with rayon. Each tile is cast by a [`TileCaster`],
+//! which may prune it with the tile's [`Frustum`] and interval arithmetic.
 
 use std::sync::{Mutex, PoisonError};
 
@@ -64,9 +64,10 @@ pub fn tiles(width: u32, height: u32, size: u32) -> Vec<Tile> {
 }
 
 /// Splits a row-major `width`-pixel image buffer (`per_px` elements per
-/// pixel) into the rows of each tile of `tiles` (as [`tiles`] cuts it:
-/// row by row from the top-left, one size): per tile, its rows' slices,
-/// top to bottom. Lets workers write their tiles straight into the image.
+/// pixel) into the rows of each tile of `tiles`. The tiles must be cut as
+/// [`tiles`] cuts them: row by row from the top-left, one size. Per tile,
+/// it gives its rows' slices, top to bottom. Workers can then write their
+/// tiles straight into the image.
 ///
 /// # Panics
 /// If `tiles` is not such a cut of a `width`-wide image that `buf` holds.
@@ -109,16 +110,17 @@ pub fn tile_rows<'a, T>(
 /// Runs `f` on every item of `work`, in parallel on rayon's threads, each
 /// worker with its own state from `init`, kept from item to item.
 ///
-/// A tile's cost varies by orders of magnitude (background, surface,
-/// silhouette), and a parallel iterator hands each thread fixed chunks of
-/// the tiles once their number is split down (a quarter of the image each
-/// on 2 threads); a thread that finishes early then idles. Here each worker
-/// owns a contiguous share of the items and takes them one at a time from
-/// its front (neighbouring tiles on one thread: its caches of shortened
-/// tapes serve them); one whose share is done takes the last item of the
-/// largest share left. The workers finish within one item of each other,
-/// and a worker that does not start (its thread busy elsewhere) leaves its
-/// share to the others.
+/// A tile's cost varies by orders of magnitude: background, surface,
+/// silhouette. A parallel iterator hands each thread fixed chunks of the
+/// tiles once their number is split down (a quarter of the image each on 2
+/// threads). A thread that finishes early then idles.
+///
+/// Here each worker owns a contiguous share of the items and takes them
+/// one at a time from its front. Neighbouring tiles thus stay on one
+/// thread, whose caches of shortened tapes serve them. A worker whose share
+/// is done takes the last item of the largest share left. The workers
+/// finish within one item of each other. A worker that does not start (its
+/// thread busy elsewhere) leaves its share to the others.
 pub fn for_each_dynamic<W, S>(
     work: Vec<W>,
     init: impl Fn() -> S + Sync,
@@ -296,8 +298,8 @@ mod tests {
     }
 
     /// While one worker is held up on an item, the others take every other
-    /// item (a parallel iterator would leave the held item's chunk-mates
-    /// waiting behind it: a quarter of them on 2 threads).
+    /// item. A parallel iterator would leave the held item's chunk-mates
+    /// waiting behind it: a quarter of them on 2 threads.
     #[test]
     fn dynamic_work_goes_round_a_slow_item() {
         let pool = rayon::ThreadPoolBuilder::new()

@@ -18,10 +18,10 @@ use std::sync::Mutex;
 /// An 8-bit sRGB image with alpha, rows top to bottom.
 ///
 /// A dropped image's bytes (from [`REUSE_MIN`] up) are kept for the next
-/// render's image ([`set_image_reuse`]): memory the process already has is
-/// written without page faults, where fresh memory from the system takes
-/// one per 4 KiB page on its first write (measured here: a 1024² render on
-/// 2 threads took 10.1 ms in fresh memory, 7.7 ms in memory reused).
+/// render's image ([`set_image_reuse`]). Memory the process already has is
+/// written without page faults. Fresh memory from the system takes one per
+/// 4 KiB page on its first write. Measured here: a 1024² render on 2
+/// threads took 10.1 ms in fresh memory, 7.7 ms in memory reused.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Image {
     /// Width in pixels.
@@ -229,9 +229,9 @@ mod tests {
     use crate::camera::{Aabb, Camera};
     use crate::synthetic::sphere_hits;
 
-    /// Kept buffers: within the count and byte limits; a request gets the
-    /// smallest that holds it and is at most four times its size (the
-    /// same allocation), else none; trimming frees down to a limit.
+    /// Kept buffers stay within the count and byte limits. A request gets
+    /// the smallest that holds it and is at most four times its size (the
+    /// same allocation), else none. Trimming frees down to a limit.
     #[test]
     fn spare_buffers_fit_and_stay_within_limits() {
         let mut s = Spare(Vec::new());

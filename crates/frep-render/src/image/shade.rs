@@ -74,9 +74,9 @@ impl Default for Lighting {
     }
 }
 
-/// `x.powi(n)` for every lane, by the same square-and-multiply sequence as
-/// the `powi` intrinsic's runtime routine (the same bits), all lanes at once
-/// (the routine is an out-of-line call per value).
+/// `x.powi(n)` for every lane, all lanes at once. It takes the same
+/// square-and-multiply sequence as the `powi` intrinsic's runtime routine,
+/// so the bits are the same. The routine is an out-of-line call per value.
 #[inline]
 fn powi_lanes(mut x: [f32; SPAN], mut n: u32) -> [f32; SPAN] {
     let mut r = [1.0f32; SPAN];
@@ -96,12 +96,16 @@ fn powi_lanes(mut x: [f32; SPAN], mut n: u32) -> [f32; SPAN] {
     }
 }
 
-/// Shades a hit buffer: key + fill + rim lights fixed to the camera,
-/// hemisphere ambient (sky above, ground below, world z up), an optional
-/// per-pixel ambient-occlusion factor, attribute colours where present (the
-/// default material otherwise), a vertical background gradient where rays
-/// missed, and sRGB encoding. Surfaces seen from behind (e.g. where the
-/// bounding box cuts the solid open) are lit as if facing the viewer.
+/// Shades a hit buffer with:
+/// - key + fill + rim lights fixed to the camera;
+/// - hemisphere ambient (sky above, ground below, world z up);
+/// - an optional per-pixel ambient-occlusion factor;
+/// - attribute colours where present, the default material otherwise;
+/// - a vertical background gradient where rays missed;
+/// - sRGB encoding.
+///
+/// Surfaces seen from behind are lit as if facing the viewer (e.g. where
+/// the bounding box cuts the solid open).
 pub fn shade(hits: &HitBuffer, lighting: &Lighting) -> Image {
     let (w, h) = (hits.width, hits.height);
     let shader = Shader::new(&hits.camera, lighting, w, h);
@@ -216,8 +220,8 @@ impl Shader {
     /// pixel `rgba[4j..4j + 4]`: its RGB bytes, alpha 255 (opaque).
     ///
     /// The pixels are shaded [`SPAN`] at a time, each step a loop over
-    /// those pixels (vectorised): every pixel gets the same bytes whatever
-    /// its neighbours, and [`Shader::pixel`] is this for one pixel.
+    /// those pixels (vectorised). Every pixel gets the same bytes whatever
+    /// its neighbours. [`Shader::pixel`] is this for one pixel.
     ///
     /// # Panics
     /// If `rgba` holds fewer than `4 · hits.len()` bytes, or `ao` is given
@@ -296,10 +300,11 @@ impl Shader {
         self.ortho.is_none()
     }
 
-    /// Shades up to [`SPAN`] pixels given as arrays: pixel `j` (bit `j` of
-    /// `hit`; else the background `bg`) with `lanes`' values at `j` gives
-    /// the pixel `rgba[4j..4j + 4]` (alpha 255), for the pixels `rgba`
-    /// holds. What [`Shader::span`] does once it has gathered its hits.
+    /// Shades up to [`SPAN`] pixels given as arrays, for the pixels `rgba`
+    /// holds. Pixel `j` is a hit where bit `j` of `hit` is set, else the
+    /// background `bg`. With `lanes`' values at `j`, it gives the pixel
+    /// `rgba[4j..4j + 4]` (alpha 255). This is what [`Shader::span`] does
+    /// once it has gathered its hits.
     pub(crate) fn shade_lanes(&self, bg: [u8; 3], lanes: ShadeIn, hit: u32, rgba: &mut [u8]) {
         let lighting = &self.lighting;
         let cam = &self.camera;
@@ -307,9 +312,9 @@ impl Shader {
         let f32s = |v: [f64; 3]| v.map(|c| c as f32);
         let (key, fill, rim) = (self.key, self.fill, self.rim);
         // The normals scaled by a power of two (exact) so that their
-        // largest component is about 1, then rounded to `f32`: normals of
-        // any finite size keep their direction. (A pass of its own: the
-        // `f32` passes have twice the lanes.)
+        // largest component is about 1, then rounded to `f32`. Normals of
+        // any finite size keep their direction. This is a pass of its own,
+        // since the `f32` passes have twice the lanes.
         let mut nf = [[0.0f32; SPAN]; 3];
         for j in 0..SPAN {
             let g = [n[0][j], n[1][j], n[2][j]];
@@ -321,8 +326,8 @@ impl Shader {
             }
         }
         // The direction back along each pixel's ray and the key light's
-        // half vector: the same for every pixel of an orthographic view (no
-        // arrays of them then).
+        // half vector. They are the same for every pixel of an orthographic
+        // view, which then needs no arrays of them.
         let lights = (key, fill, rim);
         let [hemi, kd, fd, rd, sx] = match self.ortho {
             Some((v, hv)) => light_terms(&nf, lights, |_| (v, hv)),
@@ -426,9 +431,11 @@ pub(crate) fn fill_background(bg: [u8; 3], rgba: &mut [u8]) {
 /// Pixels per pass of [`Shader::span`].
 pub const SPAN: usize = 32;
 
-/// What [`Shader::shade_lanes`] shades, per pixel of a pass: the hit's
-/// normal (any length), its position (read in perspective views only), its
-/// linear albedo, and its ambient-occlusion factor (1: open).
+/// What [`Shader::shade_lanes`] shades, per pixel of a pass:
+/// - the hit's normal, of any length;
+/// - its position, read in perspective views only;
+/// - its linear albedo;
+/// - its ambient-occlusion factor (1: open).
 #[derive(Clone, Debug)]
 pub(crate) struct ShadeLanes {
     pub n: [[f64; SPAN]; 3],
@@ -460,11 +467,13 @@ pub(crate) struct ShadeIn<'a> {
     pub material: Option<(&'a [[f32; SPAN]; 3], &'a [f32; SPAN])>,
 }
 
-/// Per lane of normals `nf` (any length; unusable ones give way to the
-/// view direction), with `vh(j)` the direction back to the eye and the key
-/// light's half vector at lane `j`: the unit normal facing the viewer, and
-/// from it the hemisphere blend, the key, fill and rim lights' diffuse terms
-/// and the key light's specular base.
+/// The light terms per lane of normals `nf`. The normals may have any
+/// length; unusable ones give way to the view direction. `vh(j)` gives the
+/// direction back to the eye and the key light's half vector at lane `j`.
+/// The result is the unit normal facing the viewer, and from it:
+/// - the hemisphere blend;
+/// - the key, fill and rim lights' diffuse terms;
+/// - the key light's specular base.
 #[inline(always)]
 fn light_terms(
     nf: &[[f32; SPAN]; 3],
@@ -502,10 +511,10 @@ fn light_terms(
     [hemi, kd, fd, rd, sx]
 }
 
-/// One colour channel's linear value per lane, from its sky, ground and
-/// light colours `[sky, ground, key, fill, rim]` and the lanes' light
-/// terms `[hemisphere blend, key, fill, rim, specular]`, with the albedo
-/// and ambient-occlusion factor of lane `j`.
+/// One colour channel's linear value per lane. It comes from the channel's
+/// colours `[sky, ground, key, fill, rim]` and the lanes' light terms
+/// `[hemisphere blend, key, fill, rim, specular]`, weighed by lane `j`'s
+/// albedo and ambient-occlusion factor.
 #[inline(always)]
 fn light_channel(
     lin: &mut [f32; SPAN],
@@ -635,10 +644,10 @@ mod tests {
     }
 
     /// A normal's length does not matter, from subnormal sizes to the
-    /// largest finite ones: scaled by a power of two, the image is that of
-    /// the unit normals, byte for byte (with subnormal components, which
-    /// hold fewer bits of the direction, within one level); infinite ones
-    /// are unusable (lit as facing the viewer).
+    /// largest finite ones. Scaled by a power of two, the image is that of
+    /// the unit normals, byte for byte. Subnormal components hold fewer
+    /// bits of the direction, so they are within one level. Infinite
+    /// normals are unusable, lit as facing the viewer.
     #[test]
     fn normals_of_any_size_shade_alike() {
         let b = Aabb::new([-1.0; 3], [1.0; 3]);
@@ -671,8 +680,9 @@ mod tests {
     }
 
     /// A row shaded in one call gives every pixel the bytes it gets alone,
-    /// whatever its neighbours in the pass (hits, misses, colours, occlusion,
-    /// unusable and back-facing normals; both projections).
+    /// whatever its neighbours in the pass. The row mixes hits, misses,
+    /// colours, occlusion, unusable and back-facing normals, in both
+    /// projections.
     #[test]
     fn span_matches_pixel() {
         let b = Aabb::new([-1.0; 3], [1.0; 3]);

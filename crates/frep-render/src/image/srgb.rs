@@ -26,14 +26,16 @@ pub(super) fn to_byte(c: f32) -> u8 {
 /// Cells of [`srgb_byte`]'s index over `[0, 1]`.
 const SRGB_CELLS: usize = 4096;
 
-/// `to_byte(linear_to_srgb(c))` without a `powf`: the byte is the number of
-/// thresholds at or below `c`, where threshold `b - 1` is the smallest `c`
-/// whose byte is at least `b` (found once by bisection over the `f32`s, so
-/// the result is the same byte, bit for bit, for every finite `c`). An index
-/// gives the count below `c`'s cell of `1/SRGB_CELLS`, centred on a
-/// multiple of `1/SRGB_CELLS` (exact: the scaling is by a power of two); a
-/// cell holds at most one threshold (checked when the table is built),
-/// compared with `c`.
+/// `to_byte(linear_to_srgb(c))` without a `powf`.
+/// - The byte is the number of thresholds at or below `c`.
+/// - Threshold `b - 1` is the smallest `c` whose byte is at least `b`. It
+///   is found once, by bisection over the `f32`s. So the result is the same
+///   byte, bit for bit, for every finite `c`.
+/// - An index gives the count below `c`'s cell of `1/SRGB_CELLS`, centred
+///   on a multiple of `1/SRGB_CELLS`. That is exact: the scaling is by a
+///   power of two.
+/// - A cell holds at most one threshold (checked when the table is built),
+///   compared with `c`.
 #[cfg_attr(not(test), allow(dead_code))]
 fn srgb_byte(c: f32) -> u8 {
     srgb_table().byte(c)

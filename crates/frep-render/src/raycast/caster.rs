@@ -1,6 +1,8 @@
-//! The caster of one model ([`ModelCaster`]): its settings and statistics,
-//! the pool of per-thread scratch, the interval checks of a tile's box, and
-//! the tile entry point ([`TileCaster`]).
+//! The caster of one model ([`ModelCaster`]). It holds:
+//! - its settings and statistics;
+//! - the pool of per-thread scratch;
+//! - the interval checks of a tile's box;
+//! - the tile entry point ([`TileCaster`]).
 
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
@@ -38,10 +40,10 @@ pub struct CastStats {
     /// Of the point evaluations, those made as lines along a coordinate
     /// axis (see [`ModelCaster::lines`]).
     pub line_points: u64,
-    /// Rays' slabs settled in closed form (see [`ModelCaster::exact`]):
-    /// a hit bracketed or no crossing, from samples or from the ray's
-    /// polynomial of an earlier slab; and rays solved whole on a set
-    /// expression over quadrics ([`ModelCaster::csg`]).
+    /// Rays' slabs settled in closed form (see [`ModelCaster::exact`]).
+    /// A slab is settled with a hit bracketed or no crossing, from samples
+    /// or from the ray's polynomial of an earlier slab. Also counted: rays
+    /// solved whole on a set expression over quadrics ([`ModelCaster::csg`]).
     pub exact_rays: u64,
 }
 
@@ -68,9 +70,9 @@ pub struct ModelCaster {
     /// Sampling step along rays in leaves, in pixel footprints (default 2;
     /// thinner features are found by the thin-feature search).
     pub step_px: f64,
-    /// Thin-feature searches of rays whose samples miss in an ambiguous
-    /// leaf sample cells of `1/2^fallback_depth` of a step or of a pixel
-    /// footprint, whichever is smaller (default 3: 1/8).
+    /// A ray whose samples miss in an ambiguous leaf gets a thin-feature
+    /// search. It samples cells of `1/2^fallback_depth` of a step or of a
+    /// pixel footprint, whichever is smaller (default 3: 1/8).
     pub fallback_depth: u32,
     /// Leaves are sampled once their depth slab is at most this many pixel
     /// footprints deep (deeper ones are split by interval bisection first).
@@ -79,56 +81,57 @@ pub struct ModelCaster {
     /// interval evaluations over sub-slabs about this many pixel footprints
     /// deep (0: not narrowed).
     pub narrow_px: f64,
-    /// A ray sampled in this many leaf slabs without a crossing has the
-    /// rest of its depth range checked with one interval evaluation (of the
-    /// tape shortened for its tile), where that is likely to cost less than
-    /// sampling on, and is searched no further where that is outside; the
-    /// next check waits twice as many slabs (0: never checked).
+    /// A ray sampled in this many leaf slabs without a crossing may have
+    /// the rest of its depth range checked with one interval evaluation, of
+    /// the tape shortened for its tile. The check is made where it is likely
+    /// to cost less than sampling on. Where the rest is outside, the ray is
+    /// searched no further. The next check waits twice as many slabs. 0:
+    /// never checked.
     pub prune_after: u32,
     /// Whether the leaves of an orthographic view straight along a
-    /// coordinate axis are evaluated as lines ([`BatchEval::eval_lines`]:
-    /// expensive functions of the other two coordinates once per ray, of
-    /// the axis one once per depth; the same values). Default on; off for
-    /// comparisons.
+    /// coordinate axis are evaluated as lines ([`BatchEval::eval_lines`]).
+    /// Expensive functions of the other two coordinates are then computed
+    /// once per ray, those of the axis one once per depth, with the same
+    /// values. Default on; off for comparisons.
     ///
     /// [`BatchEval::eval_lines`]: frep_core::eval::batch::BatchEval::eval_lines
     pub lines: bool,
-    /// Whether the slabs of a frustum where the (shortened) tape is a
-    /// polynomial of degree 2 in the point (a quadric) have their rays'
-    /// crossings solved in closed form from 3 samples each, and checked by
-    /// the value and gradient there, not sampled and searched (see the
-    /// module docs). Default on; off for comparisons.
+    /// Whether quadric slabs are solved in closed form (see the module
+    /// docs). In such a slab of a frustum, the (shortened) tape is a
+    /// polynomial of degree 2 in the point. Each ray's crossing is then
+    /// solved from 3 samples and checked by the value and gradient there,
+    /// not sampled and searched. Default on; off for comparisons.
     pub exact: bool,
-    /// Whether the rays of such a slab on a quadric, for a model with no
-    /// colours, are solved in blocks of up to a leaf's, the common case in
-    /// a pass over arrays that vectorises
-    /// (`TileCtx::quadric_block`), not one at a time: the same hits, bit
-    /// for bit, for about 30 % fewer instructions on a sphere's top view.
-    /// Default on; off for comparisons.
+    /// Whether the rays of such a slab on a quadric are solved in blocks of
+    /// up to a leaf's, for a model with no colours
+    /// (`TileCtx::quadric_block`). The common case then takes a pass over
+    /// arrays that vectorises, not one ray at a time. The hits are the
+    /// same, bit for bit, for about 30 % fewer instructions on a sphere's
+    /// top view. Default on; off for comparisons.
     pub quadric_blocks: bool,
-    /// Whether, for a model with no colours that is a set expression over
-    /// quadrics (R-functions, `min`, `max` and negations over at most 8
-    /// fields of degree at most 2 in the point, or root gaps `k − sqrt(p)`
-    /// of one: spheres, cylinders, planes, ...), each tile's rays are first
-    /// solved in closed form, every leaf's
-    /// crossings found and the expression checked after each
-    /// (`raycast::csg`); the rays that fail a check are cast the usual way.
-    /// Default on; off for comparisons.
+    /// Whether each tile's rays are first solved in closed form
+    /// (`raycast::csg`), for a model with no colours that is a set
+    /// expression over quadrics: spheres, cylinders, planes, and so on.
+    /// Such a model is R-functions, `min`, `max` and negations over at most
+    /// 8 fields of degree at most 2 in the point, or over root gaps
+    /// `k − sqrt(p)` of one. Every leaf's crossings are found and the
+    /// expression checked after each. The rays that fail a check are cast
+    /// the usual way. Default on; off for comparisons.
     pub csg: bool,
     /// The model's set expression, where it is one ([`ModelCaster::csg`]).
     pub(super) csg_tree: Option<Csg>,
     /// How the batch evaluators of samples, refinement and normals compute
-    /// `sin` and `cos`. Default [`Trig::Fast`] (within about `2e-14` of
-    /// the value, not an ulp: a sign test at a sample, a hit refined to a
-    /// fraction of a footprint and a normal for shading need no more; the
-    /// gyroid's frame costs about a tenth less time); [`Trig::Exact`] for
-    /// comparisons. Interval evaluations stay exact.
+    /// `sin` and `cos`. Default [`Trig::Fast`]: within about `2e-14` of
+    /// the value, not an ulp. A sign test at a sample, a hit refined to a
+    /// fraction of a footprint and a normal for shading need no more. The
+    /// gyroid's frame then takes about a tenth less time. [`Trig::Exact`]
+    /// is for comparisons. Interval evaluations stay exact.
     pub trig: Trig,
     pub(super) stats: AtomicStats,
     /// Per-thread evaluators and buffers, reused from tile to tile, each
-    /// with the rayon thread that last used it: that thread takes it
-    /// again (its caches warm in that core's), another one only when none
-    /// of its own is free.
+    /// with the rayon thread that last used it. That thread takes it again,
+    /// since its caches are warm in that core's. Another thread takes it
+    /// only when none of its own is free.
     pool: Mutex<Vec<(Option<usize>, Box<Scratch>)>>,
 }
 
@@ -143,9 +146,9 @@ impl ModelCaster {
         }
     }
 
-    /// A caster of `model` cut by `section` (see [`Section`]): the field
-    /// cast is the model's intersected with the kept half-space, and the
-    /// cut face of a model without colours gets [`SECTION_CAP`]. `None`:
+    /// A caster of `model` cut by `section` (see [`Section`]). The field
+    /// cast is the model's intersected with the kept half-space. The cut
+    /// face of a model without colours gets [`SECTION_CAP`]. `None`:
     /// [`ModelCaster::new`]. An error where the plane is not one.
     pub fn sectioned(
         model: &Model,
@@ -222,10 +225,10 @@ impl ModelCaster {
         }
     }
 
-    /// The tile's box ([`ModelCaster::tile_box`]), unless the tile's whole
-    /// frustum within the model box's depth range is outside (one interval
-    /// evaluation of the root tape) or misses the box: then `None`, and
-    /// none of its rays is set up. The box holds every box the tile's root
+    /// The tile's box ([`ModelCaster::tile_box`]). `None` where the tile's
+    /// whole frustum within the model box's depth range misses the box, or
+    /// is outside by one interval evaluation of the root tape. None of its
+    /// rays is then set up. The box holds every box the tile's root
     /// node would evaluate, so nothing that node would find is skipped.
     pub(super) fn live_tile_box(
         &self,
@@ -265,14 +268,17 @@ impl ModelCaster {
             .is_outside()
     }
 
-    /// Whether a ray of the tile whose rays inside the model box lie in
-    /// `bx` ([`ModelCaster::tile_box`]) may be inside the solid where it
-    /// enters the box: `false` where the model is outside throughout the
-    /// part of `bx` on each face of the box that such rays can enter by
-    /// (a face whose plane has the eye, or in an orthographic view the
-    /// rays' start, on its outer side). `true` where rays may start inside
-    /// the box (its nearest corner is not in front of the eye).
-    /// (Each face's check is counted in `stats`.)
+    /// Whether a ray of the tile may be inside the solid where it enters
+    /// the box. The tile's rays inside the model box lie in `bx`
+    /// ([`ModelCaster::tile_box`]).
+    /// - `false` where the model is outside throughout the part of `bx` on
+    ///   each face that such rays can enter by. Those are the faces whose
+    ///   plane has the eye on its outer side (in an orthographic view, the
+    ///   rays' start).
+    /// - `true` where rays may start inside the box: its nearest corner is
+    ///   not in front of the eye.
+    ///
+    /// Each face's check is counted in `stats`.
     pub(super) fn may_hold_at_entry(
         &self,
         camera: &Camera,

@@ -15,14 +15,15 @@ use super::tile::TileCtx;
 
 impl ModelCaster {
     /// Casts and shades `tile` in closed form on the model's set expression
-    /// ([`ModelCaster::csg`]) straight into its `rows` of RGBA bytes (no hit
-    /// records), [`BLOCK`] rays at a time: for [`render_with`] where no
-    /// colours and no ambient occlusion are due. Returns `false`, leaving
-    /// the tile to the general caster (its rows then partly written), where
-    /// a ray fails a check of [`Csg::solve`], is inside the solid at the
-    /// eye, or the render was cancelled. The rays' entry into the model box
-    /// is tried as a hit only where [`ModelCaster::may_hold_at_entry`]
-    /// cannot rule it out.
+    /// ([`ModelCaster::csg`]), [`BLOCK`] rays at a time. It writes straight
+    /// into the tile's `rows` of RGBA bytes, with no hit records. It serves
+    /// [`render_with`] where no colours and no ambient occlusion are due.
+    ///
+    /// Returns `false` where a ray fails a check of [`Csg::solve`], is
+    /// inside the solid at the eye, or the render was cancelled. The tile is
+    /// then left to the general caster, its rows partly written. The rays'
+    /// entry into the model box is tried as a hit only where
+    /// [`ModelCaster::may_hold_at_entry`] cannot rule it out.
     ///
     /// [`render_with`]: crate::raycast::render_with
     pub(super) fn closed_form_tile(
@@ -261,8 +262,8 @@ fn span_at(v: &[[f64; BLOCK]; 3], k: usize) -> Option<[&[f64; SPAN]; 3]> {
 
 impl<'a> TileCtx<'a> {
     /// Solves the tile's live rays in closed form on the model's set
-    /// expression ([`ModelCaster::csg`]), [`BLOCK`] at a time: the hits and
-    /// misses that check out are final, the other rays are left as they
+    /// expression ([`ModelCaster::csg`]), [`BLOCK`] at a time. The hits and
+    /// misses that check out are final. The other rays are left as they
     /// were.
     pub(super) fn closed_form(&mut self, csg: &Csg) {
         let mut cf = self.sc.closed_form.take().unwrap_or_default();

@@ -2,30 +2,35 @@
 //! quadrics ([`Csg`]).
 //!
 //! A model such as `hfSphere(x, c, 1) & x[3]` is a tree of R-functions
-//! (`&`, `|`, `\`, `min`, `max`, negation) over fields that are polynomials
-//! of degree at most 2 in the point: spheres, cylinders, ellipsoids, cones,
-//! planes; or root gaps `k − sqrt(p)` of one (a sphere written as a
-//! distance), which have the sign of `k² − p` where they are defined
-//! (`p ≥ 0`; elsewhere they are NaN, outside, and so is the model). Each
-//! R-function keeps the sign of the set operation it stands for
-//! (`a & b ≥ 0` exactly where `a ≥ 0` and `b ≥ 0`, up to rounding), so
-//! the solid is that set expression over the leaves' solids, and along a
-//! ray each leaf is a polynomial of degree 2 in the depth with at most two
-//! crossings. A ray's first hit is then the first of those crossings (or
-//! its entry into the model box) after which the expression holds: no
-//! interval evaluation, no samples, no search. The tile's rays are solved
-//! in blocks of [`BLOCK`], every step a loop over the block (which
-//! vectorises) and the set expression evaluated on bit masks of the whole
-//! block at once. (The entry is not checked where the caller has shown,
-//! by intervals over the box faces the rays enter by, that the model is
-//! outside there.)
+//! (`&`, `|`, `\`, `min`, `max`, negation) over simple fields. Each leaf
+//! field is one of:
+//! - a polynomial of degree at most 2 in the point: a sphere, cylinder,
+//!   ellipsoid, cone or plane;
+//! - a root gap `k − sqrt(p)` of one (a sphere written as a distance). It
+//!   has the sign of `k² − p` where it is defined (`p ≥ 0`). Elsewhere it
+//!   is NaN, outside, and so is the model.
+//!
+//! The algorithm:
+//! 1. Each R-function keeps the sign of the set operation it stands for:
+//!    `a & b ≥ 0` exactly where `a ≥ 0` and `b ≥ 0`, up to rounding. So the
+//!    solid is that set expression over the leaves' solids.
+//! 2. Along a ray, each leaf is a polynomial of degree 2 in the depth, with
+//!    at most two crossings.
+//! 3. A ray's first hit is the first of those crossings (or its entry into
+//!    the model box) after which the expression holds. There is no interval
+//!    evaluation, no sampling and no search.
+//! 4. The tile's rays are solved in blocks of [`BLOCK`]. Every step is a
+//!    loop over the block, which vectorises. The set expression is
+//!    evaluated on bit masks of the whole block at once.
+//! 5. The entry is not checked where the caller has shown that the model is
+//!    outside there, by intervals over the box faces the rays enter by.
 //!
 //! Every result is checked the way the exact slabs of the general caster
-//! are: each leaf's value at each crossing that counts must be clear of
-//! rounding (`1e-9` of the polynomial's scale over the ray), and no leaf
-//! may graze the ray. A ray that fails a check (two leaves crossing the
-//! ray at one point, as on an edge seen exactly; a tangent ray; values not
-//! finite) is left to the general caster.
+//! are. Each leaf's value at each crossing that counts must be clear of
+//! rounding: `1e-9` of the polynomial's scale over the ray. No leaf may
+//! graze the ray. A ray that fails a check is left to the general caster:
+//! two leaves crossing the ray at one point (an edge seen exactly), a
+//! tangent ray, or values not finite.
 
 use frep_core::eval::batch::{BatchEval, GradRegs};
 use frep_core::eval::grad::Grad;
@@ -52,8 +57,8 @@ const MAX_OPS: usize = 64;
 /// checked by [`stack_depth`] when one is built).
 const STACK: usize = MAX_OPS + 2;
 
-/// The number of values a set expression leaves on the stack, where every
-/// step finds its operands and the stack never holds more than [`STACK`].
+/// The number of values a set expression leaves on the stack. `None` unless
+/// every step finds its operands and the stack stays within [`STACK`].
 fn stack_depth(prog: &[Step]) -> Option<usize> {
     let mut top = 0usize;
     for s in prog {
@@ -79,10 +84,10 @@ pub(super) struct Csg {
     /// The set expression in postfix order.
     prog: Vec<Step>,
     /// The crossings that may start the solid along a ray: (leaf, whether
-    /// it is the one into the leaf's solid). A leaf under no negation (an
-    /// even number: R-functions, `min` and `max` are monotone) can only
-    /// start the solid where the ray enters it, one under an odd number
-    /// only where the ray leaves it.
+    /// it is the one into the leaf's solid). R-functions, `min` and `max`
+    /// are monotone. So a leaf under no negation, or an even number, can
+    /// only start the solid where the ray enters it. A leaf under an odd
+    /// number can only start it where the ray leaves it.
     cands: Vec<(usize, bool)>,
     /// Per leaf, its form: [`PLANE`] (`A = 0`), [`DIAGONAL`] (an axis-aligned
     /// quadric: `A` diagonal) or [`FULL`].
@@ -116,15 +121,15 @@ pub(super) struct Lanes {
     pub z0: [f64; BLOCK],
     pub z1: [f64; BLOCK],
     /// `Some(d)` where every lane's direction is `d` (an orthographic
-    /// view): the leaves' terms of the direction alone are then worked out
+    /// view). The leaves' terms of the direction alone are then worked out
     /// once, not per lane.
     pub dir: Option<[f64; 3]>,
 }
 
 impl Lanes {
-    /// Lane `k`'s direction: `dir` where every lane's is that (`FIXED`;
-    /// the same for every `k`, so that loops can hoist what depends on it
-    /// alone), else its own.
+    /// Lane `k`'s direction: `dir` where every lane's is that (`FIXED`),
+    /// else its own. With `FIXED` it is the same for every `k`, so loops
+    /// can hoist what depends on it alone.
     #[inline(always)]
     fn dir_at<const FIXED: bool>(&self, k: usize, dir: [f64; 3]) -> [f64; 3] {
         if FIXED {
@@ -164,9 +169,9 @@ pub(super) struct Solved {
     /// The hit's position `o + d·z`.
     pub p: [[f64; BLOCK]; 3],
     /// The outward normal at a leaf's hit, facing the ray: the leaf's
-    /// gradient, of any length (shading normalises it; not here, which
-    /// would cost a square root and a division per lane). Any value in a
-    /// lane whose hit is on no leaf.
+    /// gradient, of any length. Shading normalises it; here that would cost
+    /// a square root and a division per lane. Any value in a lane whose hit
+    /// is on no leaf.
     pub n: [[f64; BLOCK]; 3],
 }
 
@@ -187,13 +192,14 @@ impl Default for Solved {
 
 impl Csg {
     /// The set expression of output 0 of `tape` with these parameter
-    /// values, where it is one: R-functions, `min`, `max` and negations
-    /// over fields of degree at most 2 in the point, each of whose values
-    /// agrees with its quadric (by `1e-9` of its scale) at the corners and
-    /// the centre of `bounds`, or root gaps `k − sqrt(p)` of one (two
-    /// leaves: `k² − p`, and `p`, which must be `≥ 0` for the whole
-    /// expression to hold), at most [`MAX_LEAVES`] leaves in all. `None`
-    /// otherwise.
+    /// values, where it is one; `None` otherwise. It is R-functions, `min`,
+    /// `max` and negations over at most [`MAX_LEAVES`] leaves. A leaf is
+    /// one of:
+    /// - a field of degree at most 2 in the point, whose values agree with
+    ///   its quadric (by `1e-9` of its scale) at the corners and the centre
+    ///   of `bounds`;
+    /// - a root gap `k − sqrt(p)` of one. It makes two leaves: `k² − p`,
+    ///   and `p`, which must be `≥ 0` for the whole expression to hold.
     pub(super) fn of(tape: &Tape, inputs: &Inputs, bounds: &Aabb) -> Option<Csg> {
         let out = *tape.outputs.first()?;
         let mut b = Builder {
@@ -203,10 +209,10 @@ impl Csg {
             polarity: Vec::new(),
         };
         b.walk(out, 0, false)?;
-        // Each leaf's quadric; a root gap `k − sqrt(p)` is `k² − p` (its
-        // sign), and where `p < 0` its value is NaN, outside, and so is
-        // the whole expression's: the solid is also within `p ≥ 0`, a
-        // leaf of its own joined to the expression by `&`.
+        // Each leaf's quadric. A root gap `k − sqrt(p)` is `k² − p` (its
+        // sign). Where `p < 0` its value is NaN, outside, and so is the
+        // whole expression's. So the solid is also within `p ≥ 0`, a leaf
+        // of its own joined to the expression by `&`.
         let mut leaves = Vec::with_capacity(b.leaf_ids.len());
         let mut defined = Vec::new();
         for &id in &b.leaf_ids {
@@ -265,8 +271,8 @@ impl Csg {
 
     /// The set expression over the leaves' bit masks `m` (bit `k` of
     /// `m[j]`: leaf `j` holds lane `k`): the lanes the solid holds.
-    /// `stack`: its evaluation stack (kept by the caller, so that it is not
-    /// cleared at every call; every entry is written before it is read).
+    /// `stack`: its evaluation stack. The caller keeps it, so it is not
+    /// cleared at every call; every entry is written before it is read.
     #[inline]
     fn holds(&self, m: &[u64; MAX_LEAVES], stack: &mut [u64; STACK]) -> u64 {
         let mut top = 0;
@@ -292,8 +298,8 @@ impl Csg {
 
     /// Solves the first `n` lanes of `l` (see the module docs), with `w`
     /// for its working arrays. `entry`: whether to check the rays' entry
-    /// into the box as a hit (callers that know the model is outside the
-    /// solid wherever these rays enter it skip that).
+    /// into the box as a hit. Callers skip that where they know the model
+    /// is outside the solid wherever these rays enter it.
     // (The lane passes index several arrays at once.)
     #[allow(clippy::needless_range_loop)]
     pub(super) fn solve(&self, l: &Lanes, n: usize, w: &mut Work, s: &mut Solved, entry: bool) {
@@ -428,9 +434,9 @@ impl Csg {
             if !leaf[..n].contains(&(j as u64)) {
                 continue;
             }
-            // The first such leaf writes every lane (a plain store, where a
-            // select compiles to a masked store, slow): lanes it does not
-            // hit are the later leaves' to write, or have no leaf normal.
+            // The first such leaf writes every lane: a plain store, where a
+            // select compiles to a slow masked store. Lanes it does not hit
+            // are the later leaves' to write, or have no leaf normal.
             finite |= if first {
                 leaf_normals::<true>(q, j, l, pos, leaf, nrm)
             } else {
@@ -461,9 +467,10 @@ impl Csg {
     }
 }
 
-/// The normals of leaf `j` (quadric `q`) at the hits of the lanes of `l`
-/// whose hit is on it (`leaf`, positions `pos`): its gradient, facing the
-/// ray, into `nrm` (every lane where `ALL`, else those lanes only).
+/// The normals of leaf `j` (quadric `q`) at the hits on it, written into
+/// `nrm`. The lanes of `l` whose hit is on it come from `leaf`, their
+/// positions from `pos`. The normal is its gradient, facing the ray. With
+/// `ALL` every lane is written, else those lanes only.
 /// Returns the lanes whose hit is on it with a usable gradient.
 // (The lane passes index several arrays at once.)
 #[allow(clippy::needless_range_loop)]
@@ -500,9 +507,9 @@ fn leaf_normals<const ALL: bool>(
     finite
 }
 
-/// The working arrays of [`Csg::solve`] (kept from block to block: every
-/// lane of the leaves in use is written before it is read), and the set
-/// expression's evaluation stack ([`Csg::holds`]).
+/// The working arrays of [`Csg::solve`], and the set expression's
+/// evaluation stack ([`Csg::holds`]). They are kept from block to block:
+/// every lane of the leaves in use is written before it is read.
 pub(super) struct Work {
     leaf: [LeafRay; MAX_LEAVES],
     stack: [u64; STACK],
@@ -517,10 +524,11 @@ impl Default for Work {
     }
 }
 
-/// One leaf along a block of rays: its polynomial `a z² + b z + c`, the
-/// rounding allowance `tol`, its crossings into its solid (`enter`, where
-/// the slope is positive) and out of it (`leave`) (NaN or infinite where
-/// there is none), and whether it grazes the ray.
+/// One leaf along a block of rays:
+/// - its polynomial `a z² + b z + c` and rounding allowance `tol`;
+/// - its crossing into its solid (`enter`, where the slope is positive) and
+///   out of it (`leave`), NaN or infinite where there is none;
+/// - whether it grazes the ray.
 struct LeafRay {
     a: [f64; BLOCK],
     b: [f64; BLOCK],
@@ -547,12 +555,12 @@ impl Default for LeafRay {
 
 impl LeafRay {
     /// Quadric `q` along the rays of `l` (every lane; the idle ones give
-    /// harmless values). (Not inlined: its arguments are then known not
-    /// to overlap, and the loop vectorises without run-time checks.)
+    /// harmless values). It is not inlined, so its arguments are known not
+    /// to overlap and the loop vectorises without run-time checks.
     /// `KIND`: the form of `q` ([`Csg::shape`]), its zero terms left out.
-    /// `FIXED`: every lane's direction is `dir` (read instead of `l.d`; the
+    /// `FIXED`: every lane's direction is `dir`, read instead of `l.d`. The
     /// terms of the direction alone are then the same in every lane, and
-    /// the compiler takes them out of the loop: the same bits).
+    /// the compiler takes them out of the loop (the same bits).
     #[inline(never)]
     fn solve<const KIND: u8, const FIXED: bool>(&mut self, q: &Quadric, l: &Lanes, dir: [f64; 3]) {
         // `q(p0 + u) = c + g·u + uᵀAu` with `u = o − p0 + d·z`, its terms
@@ -695,11 +703,14 @@ impl Builder<'_> {
     }
 }
 
-/// Node `id` of `tape` as a quadric with the field's sign: where it is a
-/// polynomial of degree at most 2 in the point, that polynomial; where it
-/// is a root gap `k − sqrt(p)` ([`Tape::root_gap`]), `k² − p` and, second,
-/// `p`. `None` where it is neither, or the polynomial does not agree with
-/// its quadric at the corners and centre of `bounds` (see [`Csg::of`]).
+/// Node `id` of `tape` as a quadric with the field's sign:
+/// - a polynomial of degree at most 2 in the point gives that polynomial;
+/// - a root gap `k − sqrt(p)` ([`Tape::root_gap`]) gives `k² − p` and,
+///   second, `p`.
+///
+/// `None` where it is neither. Also `None` where the polynomial does not
+/// agree with its quadric at the corners and centre of `bounds` (see
+/// [`Csg::of`]).
 fn leaf_quadric(
     tape: &Tape,
     id: NodeId,
@@ -802,7 +813,7 @@ mod tests {
     }
 
     /// R-functions, `min`, `max`, negations and `\` over fields of degree
-    /// at most 2 are taken, with the crossings that may start the solid:
+    /// at most 2 are taken. So are the crossings that may start the solid:
     /// into a leaf under no negation, out of one under one. Blends, other
     /// functions of the point, degrees above 2 and more than
     /// [`MAX_LEAVES`] leaves are not.
@@ -869,10 +880,10 @@ mod tests {
     }
 
     /// Rays straight down (depth `z` at height `2 − z`) onto the unit
-    /// sphere cut flat at height 0.5: the flat face, the sphere below it, a
-    /// miss beside the sphere, a ray that starts inside (its entry), a ray
-    /// tangent to the sphere (unsure), and one that starts on the flat
-    /// face (unsure).
+    /// sphere cut flat at height 0.5. They meet the flat face, the sphere
+    /// below it, and nothing beside the sphere. One starts inside (its
+    /// entry is the hit). Two are unsure: one tangent to the sphere, and
+    /// one that starts on the flat face.
     #[test]
     fn solves_a_cut_sphere() {
         let c = csg("my_model = (1 - x[1]^2 - x[2]^2 - x[3]^2) & (0.5 - x[3]);").unwrap();
@@ -924,8 +935,8 @@ mod tests {
 
     /// A root gap whose `p` is negative, its value NaN, in part of space:
     /// the solid ends where `p` turns negative. Along `y` through the
-    /// origin, `0.6 − sqrt(x² − y² + 0.2)` is defined for `|y| ≤ √0.2` (and
-    /// positive there), so the ray from `y = −2` enters at `y = −√0.2`,
+    /// origin, `0.6 − sqrt(x² − y² + 0.2)` is defined for `|y| ≤ √0.2`,
+    /// and positive there. So the ray from `y = −2` enters at `y = −√0.2`,
     /// where `p` crosses 0, with the normal facing it.
     #[test]
     fn a_root_gap_ends_where_it_is_undefined() {

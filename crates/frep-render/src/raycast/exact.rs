@@ -12,23 +12,27 @@ use super::tile::TileCtx;
 use super::{EXACT_BRACKET_PX, QUAD_BLOCK};
 
 impl<'a> TileCtx<'a> {
-    /// Settles the slab `[za, zb]` of `rect`'s rays on evaluator `e`, whose
-    /// field along every ray is a polynomial of degree at most 2, up to a
-    /// map that keeps its sign ([`Evals::exact`]): each ray's polynomial
-    /// comes from the quadric's coefficients ([`TileCtx::quadric`]; for a
-    /// plane from its values, and the rays that clearly cross it are hits
-    /// at once: [`TileCtx::plane_hits`]), or where those are not to be had
-    /// from samples at its slab's ends and middle, and its first
-    /// crossing (`f ≥ 0`) is found in closed form
-    /// ([`RayPoly::first_root`]) and checked: where the polynomial is
-    /// outside [`EXACT_BRACKET_PX`] footprints before it and inside as many
-    /// after, it is the hit. A ray inside at its first sample is a direct
-    /// hit; one whose polynomial stays clearly outside over the slab has no
-    /// crossing there (it goes on behind, its tail set as a sampled slab's).
-    /// Returns whether every ray was settled so; if not, the rays with no
-    /// crossing are in [`Scratch::settled`] and the others (a crossing that
-    /// did not check out, a ray grazing the surface, a value not finite)
-    /// are left unresolved.
+    /// Settles the slab `[za, zb]` of `rect`'s rays on evaluator `e`. Along
+    /// every ray, `e`'s field is a polynomial of degree at most 2, up to a
+    /// map that keeps its sign ([`Evals::exact`]).
+    /// 1. Each ray's polynomial comes from the quadric's coefficients
+    ///    ([`TileCtx::quadric`]). For a plane it comes from its values, and
+    ///    the rays that clearly cross it are hits at once
+    ///    ([`TileCtx::plane_hits`]). Where neither is to be had, it comes
+    ///    from samples at the slab's ends and middle.
+    /// 2. Its first crossing (`f ≥ 0`) is found in closed form
+    ///    ([`RayPoly::first_root`]) and checked. It is the hit where the
+    ///    polynomial is outside [`EXACT_BRACKET_PX`] footprints before it
+    ///    and inside as many after.
+    /// 3. A ray inside at its first sample is a direct hit.
+    /// 4. A ray whose polynomial stays clearly outside over the slab has no
+    ///    crossing there. It goes on behind, its tail set as a sampled
+    ///    slab's.
+    ///
+    /// Returns whether every ray was settled so. If not, the rays with no
+    /// crossing are in [`Scratch::settled`], and the others are left
+    /// unresolved. Those are a crossing that did not check out, a ray
+    /// grazing the surface, or a value not finite.
     ///
     /// [`Evals::exact`]: crate::raycast::scratch::Evals::exact
     /// [`Scratch::settled`]: crate::raycast::scratch::Scratch::settled
@@ -108,11 +112,12 @@ impl<'a> TileCtx<'a> {
     }
 
     /// Ray `i`'s fresh polynomial `p` over its part `[lo, hi]` of an exact
-    /// slab on evaluator `e`: inside at `lo` is a direct hit there (where
-    /// the field is defined there: [`RayPoly::defined_at_start`]; else the
-    /// ray is unsure); values not finite leave the ray unsure (`false`);
-    /// otherwise `p` is kept
-    /// for the ray's later slabs and [`TileCtx::settle`] takes it.
+    /// slab on evaluator `e`.
+    /// - Inside at `lo` is a direct hit there, where the field is defined
+    ///   there ([`RayPoly::defined_at_start`]). Else the ray is unsure.
+    /// - Values not finite leave the ray unsure (`false`).
+    /// - Otherwise `p` is kept for the ray's later slabs, and
+    ///   [`TileCtx::settle`] takes it.
     fn take_poly(&mut self, p: RayPoly, e: usize, i: usize, lo: f64, hi: f64) -> bool {
         if p.c >= 0.0 {
             if !p.defined_at_start() {
@@ -129,17 +134,21 @@ impl<'a> TileCtx<'a> {
     }
 
     /// Ray `i`'s part `[lo, hi]` of an exact slab on evaluator `e`, by its
-    /// polynomial `p` ([`TileCtx::exact`]). A crossing is the hit where the
-    /// polynomial's values [`EXACT_BRACKET_PX`] footprints either side of
-    /// it are both clear of rounding: recorded at once with the quadric's
-    /// normal where `e` has one ([`Evals::quadric`]) and no colour is due,
-    /// else as a direct hit (its normal by the gradient there). No
-    /// crossing puts the ray in
-    /// [`Scratch::settled`] and sets its tail as a sampled slab would; where
-    /// the polynomial has no crossing on the rest of the ray either, the
-    /// ray is due for the whole-ray check of [`ModelCaster::prune_after`]
-    /// if the slabs left would likely cost more. `false`: unsure (nothing
-    /// recorded).
+    /// polynomial `p` ([`TileCtx::exact`]).
+    /// - A crossing is the hit where the polynomial's values
+    ///   [`EXACT_BRACKET_PX`] footprints either side of it are both clear of
+    ///   rounding.
+    /// - The hit is recorded at once with the quadric's normal where `e` has
+    ///   one ([`Evals::quadric`]) and no colour is due. Else it is recorded
+    ///   as a direct hit, its normal by the gradient there.
+    /// - No crossing puts the ray in [`Scratch::settled`] and sets its tail
+    ///   as a sampled slab would.
+    /// - The polynomial may have no crossing on the rest of the ray either.
+    ///   The ray is then due for the whole-ray check of
+    ///   [`ModelCaster::prune_after`], if the slabs left would likely cost
+    ///   more.
+    ///
+    /// `false`: unsure (nothing recorded).
     ///
     /// [`Evals::quadric`]: crate::raycast::scratch::Evals::quadric
     /// [`Scratch::settled`]: crate::raycast::scratch::Scratch::settled
@@ -172,12 +181,12 @@ impl<'a> TileCtx<'a> {
         p
     }
 
-    /// Evaluator `e`'s quadric ([`Evals::quadric`]; its field of degree 2
-    /// or a root gap), the first time from the values and gradients at
-    /// `p0` and at `h` from it along each axis (a quadric's gradient is
-    /// affine: its differences give `A` exactly but for rounding). `None`
-    /// where those are not finite or the values there do not agree with
-    /// the quadric (by more than `1e-9` of their scale).
+    /// Evaluator `e`'s quadric ([`Evals::quadric`]): its field of degree 2,
+    /// or a root gap. The first time, it comes from the values and
+    /// gradients at `p0` and at `h` from it along each axis. A quadric's
+    /// gradient is affine, so its differences give `A` exactly but for
+    /// rounding. `None` where those are not finite, or where the values
+    /// there differ from the quadric by more than `1e-9` of their scale.
     ///
     /// [`Evals::quadric`]: crate::raycast::scratch::Evals::quadric
     #[inline(never)]
@@ -224,12 +233,12 @@ impl<'a> TileCtx<'a> {
 
     /// For an affine field `pl` ([`Evals::plane`]), records at once the hits
     /// of the rays of `rays` (ray, lo, hi) that cross it clearly in their
-    /// slab (outside at `lo` and inside at `hi`, each by more than
-    /// rounding): at the crossing, with the plane's normal (the hit and
-    /// normal sampling and [`TileCtx::polish`] find there), without
-    /// evaluating the tape.
-    /// The other rays are left in `rays` (all of them for a model with
-    /// attribute colours, whose hits are recorded with their colours).
+    /// slab. Clearly means outside at `lo` and inside at `hi`, each by more
+    /// than rounding. The hit is at the crossing, with the plane's normal,
+    /// found without evaluating the tape. Sampling and [`TileCtx::polish`]
+    /// find the same hit and normal there. The other rays are left in
+    /// `rays`. For a model with attribute colours that is all of them:
+    /// their hits are recorded with their colours.
     ///
     /// [`Evals::plane`]: crate::raycast::scratch::Evals::plane
     #[inline(never)]
@@ -290,10 +299,10 @@ impl<'a> TileCtx<'a> {
         }
     }
 
-    /// Whether the crossing at depth `z` of the ray polynomial `p` (over
-    /// the slab `[lo, hi]`) is clear: outside [`EXACT_BRACKET_PX`]
-    /// footprints before it and inside as many after (within the slab),
-    /// each by more than rounding.
+    /// Whether the crossing at depth `z` of the ray polynomial `p`, over the
+    /// slab `[lo, hi]`, is clear. Clear means outside [`EXACT_BRACKET_PX`]
+    /// footprints before it and inside as many after, within the slab, each
+    /// by more than rounding.
     #[inline]
     fn clear_at(&self, p: &RayPoly, z: f64, lo: f64, hi: f64) -> bool {
         let d = EXACT_BRACKET_PX * self.rm.pixel_footprint(z);
@@ -304,13 +313,13 @@ impl<'a> TileCtx<'a> {
     }
 
     /// [`TileCtx::take_poly`] for a ray's fresh polynomial `p` over its
-    /// slab `[lo, hi]`, where `p` is finite and clearly outside at `lo`
-    /// (the common case), without re-deriving what that gives:
-    /// `p` was fitted over this very slab, so the slab's fractions are `0`
-    /// and `1` exactly, the value at `lo` is `p.c` and the rounding
-    /// allowance `1e-9` of `p`'s scale ([`RayPoly::first_root`] finds the
-    /// same). The same outcome, bit for bit; `None` where the case is not
-    /// this one (for `take_poly`).
+    /// slab `[lo, hi]`, in the common case: `p` finite and clearly outside
+    /// at `lo`. It does not re-derive what that case gives. `p` was fitted
+    /// over this very slab, so the slab's fractions are `0` and `1`
+    /// exactly. The value at `lo` is `p.c`, and the rounding allowance is
+    /// `1e-9` of `p`'s scale ([`RayPoly::first_root`] finds the same). The
+    /// outcome is the same, bit for bit. `None` where the case is not this
+    /// one, for `take_poly` to handle.
     #[inline]
     fn take_fresh(&mut self, p: &RayPoly, e: usize, i: usize, lo: f64, hi: f64) -> Option<bool> {
         if !p.fresh_outside() {
@@ -325,13 +334,14 @@ impl<'a> TileCtx<'a> {
 
     /// [`TileCtx::exact`]'s fresh rays `rays` (ray, lo, hi; at most
     /// [`QUAD_BLOCK`]) on evaluator `e`, whose quadric `quad` is known, for
-    /// a model with no colours ([`ModelCaster::quadric_blocks`]): what
-    /// [`RayPoly::of_quadric`] and [`TileCtx::take_poly`] do for each, with
-    /// the common case — a clear crossing in the slab, recorded with the
-    /// quadric's normal — worked out for all rays at once in one
-    /// pass over arrays (which vectorises), the same values
-    /// bit for bit; every other ray is taken as before
-    /// ([`TileCtx::take_fresh`] or `take_poly`), in the rays' order.
+    /// a model with no colours ([`ModelCaster::quadric_blocks`]). It does
+    /// what [`RayPoly::of_quadric`] and [`TileCtx::take_poly`] do for each.
+    /// - The common case is a clear crossing in the slab, recorded with the
+    ///   quadric's normal. It is worked out for all rays at once, in one
+    ///   pass over arrays that vectorises, with the same values bit for bit.
+    /// - Every other ray is taken as before ([`TileCtx::take_fresh`] or
+    ///   `take_poly`), in the rays' order.
+    ///
     /// Returns whether every ray was settled.
     ///
     /// [`ModelCaster::quadric_blocks`]: crate::raycast::caster::ModelCaster::quadric_blocks

@@ -163,12 +163,13 @@ impl<'a> TileCtx<'a> {
     }
 
     /// The node of `rect`'s frustum between depths `za` and `zb`, on
-    /// evaluator `e`. `held`: the [`Scratch::epoch`] at which `rect` was
-    /// last seen to hold an unresolved ray (by its parent, for a depth
-    /// half): while no ray was resolved since, a view whose rays all share
-    /// one depth range needs no pass over the rays. `exact`: whether
-    /// [`TileCtx::exact`] may settle the node (not below a node where it
-    /// left rays unsure).
+    /// evaluator `e`.
+    /// - `held`: the [`Scratch::epoch`] at which `rect` was last seen to
+    ///   hold an unresolved ray (by its parent, for a depth half). While no
+    ///   ray was resolved since, a view whose rays all share one depth range
+    ///   needs no pass over the rays.
+    /// - `exact`: whether [`TileCtx::exact`] may settle the node. It may not
+    ///   below a node where it left rays unsure.
     ///
     /// [`Scratch::epoch`]: crate::raycast::scratch::Scratch::epoch
     #[allow(clippy::too_many_arguments)]
@@ -221,10 +222,10 @@ impl<'a> TileCtx<'a> {
             return;
         }
         if rect.size() > LEAF && !self.sc.evals[e].affine {
-            // Rectangles of leaf size over the whole slab: the interval
+            // Rectangles of leaf size over the whole slab. The interval
             // evaluations of the quadrants drop the rays far from the
-            // surface (beside a wall) before any is sampled. (A plane's
-            // rays take no samples: all of the rectangle at once.)
+            // surface (beside a wall) before any is sampled. A plane's rays
+            // take no samples: all of the rectangle at once.
             for q in rect.quadrants() {
                 let kq = self.corners(q);
                 self.node(e, q, &kq, za, zb, None, exact);
@@ -234,9 +235,9 @@ impl<'a> TileCtx<'a> {
         if self.exact(e, rect, za, zb) {
             return;
         }
-        // Some rays were left unsure (a crossing that did not check out, a
-        // graze): those alone are searched the usual way, the others set
-        // aside meanwhile (their slab has no crossing).
+        // Some rays were left unsure: a crossing that did not check out, or
+        // a graze. Those alone are searched the usual way. The others are
+        // set aside meanwhile, as their slab has no crossing.
         let mut hidden = std::mem::take(&mut self.sc.hidden);
         hidden.clear();
         let sc = &mut *self.sc;
@@ -303,15 +304,17 @@ impl<'a> TileCtx<'a> {
         )
     }
 
-    /// The part of a leaf's slab `[za, zb]` that may hold the surface: the
-    /// slab is cut into sub-slabs about [`ModelCaster::narrow_px`] pixel
-    /// footprints deep, each evaluated over the leaf's frustum, and the
-    /// outside ones in front of the first that is not and behind the last
-    /// are dropped (nothing can cross there). A sub-slab inside throughout
-    /// ends the search: the span ends where it starts (the last sample of
-    /// every ray is inside: the sub-slab's box holds its near face), or at
-    /// `zb` where a ray of `rect` enters the model box behind that (its
-    /// segment must be sampled).
+    /// The part of a leaf's slab `[za, zb]` that may hold the surface.
+    /// 1. The slab is cut into sub-slabs about [`ModelCaster::narrow_px`]
+    ///    pixel footprints deep, each evaluated over the leaf's frustum.
+    /// 2. The outside ones in front of the first that is not, and behind
+    ///    the last, are dropped: nothing can cross there.
+    /// 3. A sub-slab inside throughout ends the search. The span ends where
+    ///    it starts, since the sub-slab's box holds its near face and the
+    ///    last sample of every ray is inside.
+    /// 4. It ends at `zb` instead where a ray of `rect` enters the model box
+    ///    behind that sub-slab. That ray's segment must be sampled.
+    ///
     /// `None`: all outside.
     ///
     /// [`ModelCaster::narrow_px`]: crate::raycast::caster::ModelCaster::narrow_px

@@ -277,10 +277,10 @@ impl<'a> TileCtx<'a> {
         self.sc.leaf_rays = leaf_rays;
     }
 
-    /// Checks the rays due (see [`ModelCaster::prune_after`]): one interval
-    /// evaluation of the tile's tape over the rest of each ray's depth range
-    /// (the box of that segment); a ray that is outside there is searched
-    /// no further (a miss), its pending segment included.
+    /// Checks the rays due (see [`ModelCaster::prune_after`]). Each gets one
+    /// interval evaluation of the tile's tape over the rest of its depth
+    /// range, the box of that segment. A ray that is outside there is a
+    /// miss, searched no further, its pending segment included.
     ///
     /// [`ModelCaster::prune_after`]: crate::raycast::caster::ModelCaster::prune_after
     pub(super) fn prune_rays(&mut self) {

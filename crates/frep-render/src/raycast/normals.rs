@@ -87,10 +87,11 @@ impl<'a> TileCtx<'a> {
         entry_face(&self.caster.bounds, p)
     }
 
-    /// The normal at `p` where the gradient vanishes or is not finite (a
-    /// field like `(r² − |p|²)³` on its surface, a kink): central
-    /// differences at half, 2 and 8 pixel footprints, the first that does
-    /// not vanish; failing those, the direction back along the ray.
+    /// The normal at `p` where the gradient vanishes or is not finite: a
+    /// field like `(r² − |p|²)³` on its surface, or a kink. It is the first
+    /// of the central differences at half, 2 and 8 pixel footprints that
+    /// does not vanish. Failing those, it is the direction back along the
+    /// ray.
     fn normal(&mut self, e: usize, r: &RayInfo, p: [f64; 3], z: f64) -> [f64; 3] {
         let h = self.footprint(z).max(1e-9 * (1.0 + z.abs()));
         for scale in [0.5, 2.0, 8.0] {

@@ -9,11 +9,14 @@ use super::normals::unit;
 use super::rays::RayInfo;
 
 /// A polynomial of degree 2 in the point, about a point `p0`:
-/// `q(p0 + u) = c + g·u + uᵀ·A·u` (`a` symmetric). For a field of degree 2
-/// it is the field; for a root gap `k − sqrt(p)` it is `k² − p`, which has
-/// the field's sign and, on the surface, the direction of its gradient
-/// (`∇q = 2(k − f)·∇f`). Along a ray `p = o + dz·z` it is a polynomial of
-/// degree 2 in the depth: no samples are needed ([`TileCtx::exact`]).
+/// `q(p0 + u) = c + g·u + uᵀ·A·u` (`a` symmetric).
+/// - For a field of degree 2 it is the field.
+/// - For a root gap `k − sqrt(p)` it is `k² − p`. That has the field's
+///   sign and, on the surface, the direction of its gradient
+///   (`∇q = 2(k − f)·∇f`).
+///
+/// Along a ray `p = o + dz·z` it is a polynomial of degree 2 in the depth,
+/// so no samples are needed ([`TileCtx::exact`]).
 ///
 /// [`TileCtx::exact`]: crate::raycast::tile::TileCtx::exact
 #[derive(Clone, Copy, Debug)]
@@ -79,9 +82,9 @@ impl Quadric {
     }
 
     /// The quadric about `p0` with the values and gradients `qs` at its
-    /// [`Quadric::fit_points`]: the value and gradient at `p0`, and `A`
-    /// from the differences of the gradients (a quadric's gradient is
-    /// affine: exact but for rounding), symmetrised.
+    /// [`Quadric::fit_points`]. It takes the value and gradient at `p0`.
+    /// `A` comes from the differences of the gradients, symmetrised. A
+    /// quadric's gradient is affine, so that is exact but for rounding.
     pub(super) fn fit(p0: [f64; 3], h: f64, qs: &[(f64, [f64; 3]); 4]) -> Quadric {
         let (c, g) = qs[0];
         let mut a = [[0.0; 3]; 3];
@@ -134,10 +137,10 @@ pub(super) enum Root {
 }
 
 /// The field along one ray on one evaluator whose tape is a polynomial of
-/// degree at most 2 in the point ([`Tape::polynomial_degree`]), so along the
-/// ray a polynomial of degree at most 2 in the depth:
-/// `q(s) = a s² + b s + c` in the fraction `s = (z − lo) / w` of the slab
-/// it was sampled over. It holds for the whole ray, not only that slab:
+/// degree at most 2 in the point ([`Tape::polynomial_degree`]). Along the
+/// ray it is then a polynomial of degree at most 2 in the depth:
+/// `q(s) = a s² + b s + c`. `s = (z − lo) / w` is the fraction of the slab
+/// it was sampled over. It holds for the whole ray, not only that slab, so
 /// a later slab of the ray on the same evaluator needs no samples.
 ///
 /// Where the tape is `k − sqrt(p)` instead ([`Tape::root_gap`]), `q` is
@@ -283,11 +286,12 @@ impl RayPoly {
         finite && self.w > 0.0 && self.c < -1e-9 * self.scale
     }
 
-    /// Whether the field is clearly defined at the slab's start: always,
-    /// but for a root gap `k − sqrt(p)`, whose polynomial `q = k² − p`
-    /// holds no trace of where `p < 0` (the field NaN, outside), only
-    /// where `q` is below `k²` by more than rounding. (Before a crossing
-    /// from `q < 0`, `p > k²`: only a slab that starts inside needs this.)
+    /// Whether the field is clearly defined at the slab's start. It always
+    /// is, but for a root gap `k − sqrt(p)`. Its polynomial `q = k² − p`
+    /// holds no trace of where `p < 0`, where the field is NaN, outside.
+    /// So a root gap is clearly defined only where `q` is below `k²` by more
+    /// than rounding. Before a crossing from `q < 0`, `p > k²`: only a slab
+    /// that starts inside needs this.
     pub(super) fn defined_at_start(&self) -> bool {
         let k2 = self.k * self.k;
         self.k <= 0.0 || self.c < k2 - 1e-9 * self.scale.max(k2)

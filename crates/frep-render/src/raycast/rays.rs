@@ -1,6 +1,8 @@
-//! A tile's rays set up in lanes ([`set_up_rays`]): origins, directions,
-//! depth scales and their clip to the model box; one ray ([`RayInfo`]) and a
-//! rectangle's corner rays ([`Corners`]).
+//! Rays, set up for the caster:
+//! - a tile's rays in lanes ([`set_up_rays`]): origins, directions, depth
+//!   scales and their clip to the model box;
+//! - one ray ([`RayInfo`]);
+//! - a rectangle's corner rays ([`Corners`]).
 
 use crate::camera::{dot, sub, Aabb, Camera, Projection, RayMaker};
 use crate::tiles::Tile;
@@ -44,10 +46,10 @@ impl RayInfo {
     }
 }
 
-/// The corner rays of a pixel rectangle's frustum (through its outer pixel
-/// edges), each as a point and its direction per unit depth, so that the
-/// frustum's boxes between depths take no division (the depth-bisection
-/// children of a node share them).
+/// The corner rays of a pixel rectangle's frustum, through its outer pixel
+/// edges. Each is a point and its direction per unit depth, so the
+/// frustum's boxes between depths take no division. The depth-bisection
+/// children of a node share them.
 pub(super) struct Corners {
     pub(super) origin: [[f64; 3]; 4],
     pub(super) dz: [[f64; 3]; 4],
@@ -117,12 +119,12 @@ pub(super) fn entry_face(b: &Aabb, p: &[f64; 3]) -> Option<[f64; 3]> {
 pub(super) const SETUP_LANES: usize = 16;
 
 /// Sizes `sc.rays`, `sc.z0s` and `sc.z1s` for the tile and fills them with
-/// its rays (`rm`, of `cam`), row by row: each ray's [`per_dir`] terms and
-/// its depth range inside `bounds` ([`Ray::clip_inv`](crate::camera::Ray::clip_inv)), for
-/// [`SETUP_LANES`] rays at a time in passes over arrays, which the compiler
-/// turns into vector code. The same bits as one ray at a time. Returns the
-/// [`per_dir`] terms all rays share (those of the camera's axis) in an
-/// orthographic view.
+/// its rays (`rm`, of `cam`), row by row. Each ray gets its [`per_dir`]
+/// terms and its depth range inside `bounds`
+/// ([`Ray::clip_inv`](crate::camera::Ray::clip_inv)). [`SETUP_LANES`] rays
+/// are set up at a time, in passes over arrays that the compiler turns into
+/// vector code. The bits are those of one ray at a time. In an orthographic
+/// view, returns the [`per_dir`] terms all rays share (the camera axis's).
 pub(super) fn set_up_rays(
     bounds: &Aabb,
     cam: &Camera,
@@ -205,11 +207,11 @@ pub(super) struct RayLanes {
     pub(super) z1: [f64; SETUP_LANES],
 }
 
-/// The rays of pixels `x..x + SETUP_LANES` of row `py` (`rm`, of a camera
-/// looking along `forward`; `fixed`: the [`per_dir`] terms all rays share,
-/// in an orthographic view) clipped to `bounds`, in passes over arrays
-/// (which vectorise), into `out` (written in place: no copy of the
-/// arrays): what [`set_up_rays`] sets up.
+/// What [`set_up_rays`] sets up, for the rays of pixels `x..x + SETUP_LANES`
+/// of row `py`, clipped to `bounds`. `rm` is of a camera looking along
+/// `forward`. `fixed`: the [`per_dir`] terms all rays share, in an
+/// orthographic view. The work is done in passes over arrays, which
+/// vectorise, and written into `out` in place, with no copy of the arrays.
 #[inline(always)]
 pub(super) fn ray_lanes(
     bounds: &Aabb,
@@ -256,12 +258,12 @@ pub(super) fn ray_lanes(
     clip_lanes(bounds, o.each_ref(), |a, j| inv[a][j], |j| c[j], (z0, z1));
 }
 
-/// The depths `z0 ≤ z1` of the part inside `bounds` of the `L` rays from
-/// origins `o` with reciprocal directions `inv(axis, lane)` and depth
-/// scales `c(lane)` (`[+∞, −∞]` where a ray misses it):
-/// [`Ray::clip_inv`](crate::camera::Ray::clip_inv) with selects, the
-/// depths `t·c`. (One body for [`ray_lanes`] and [`ortho_lanes`]: the same
-/// bits.)
+/// The depths `z0 ≤ z1` of the part inside `bounds` of `L` rays, or
+/// `[+∞, −∞]` where a ray misses it. The rays start at origins `o`, with
+/// reciprocal directions `inv(axis, lane)` and depth scales `c(lane)`. This
+/// is [`Ray::clip_inv`](crate::camera::Ray::clip_inv) with selects, the
+/// depths `t·c`. [`ray_lanes`] and [`ortho_lanes`] share this one body, so
+/// their bits are the same.
 // (The lane passes index several arrays at once.)
 #[allow(clippy::needless_range_loop)]
 #[inline(always)]
@@ -295,12 +297,12 @@ fn clip_lanes<const L: usize>(
     }
 }
 
-/// [`ray_lanes`] in an orthographic view (`c` and `inv`: the [`per_dir`]
-/// terms of the camera's axis, which every ray shares) for the rays of
-/// the pixels of columns `uk` ([`RayMaker::ortho_columns`]) of row `py`,
-/// written straight into lanes
-/// `k..k + SETUP_LANES` of `lanes`: their origins and depth ranges, the
-/// same bits (the directions are the caller's, written once).
+/// [`ray_lanes`] in an orthographic view, for the rays of the pixels of
+/// columns `uk` ([`RayMaker::ortho_columns`]) of row `py`. `c` and `inv`
+/// are the [`per_dir`] terms of the camera's axis, which every ray shares.
+/// Their origins and depth ranges go straight into lanes
+/// `k..k + SETUP_LANES` of `lanes`, with the same bits. The directions are
+/// the caller's, written once.
 #[inline(always)]
 pub(super) fn ortho_lanes(
     bounds: &Aabb,
@@ -321,9 +323,9 @@ pub(super) fn ortho_lanes(
     clip_lanes(bounds, o, |a, _| inv[a], |_| c, z);
 }
 
-/// The least and greatest depth (distance along the viewing direction
-/// from the eye; orthographic rays start on the eye's plane) of the
-/// corners of box `b`, which bound its points'.
+/// The least and greatest depth of the corners of box `b`, which bound its
+/// points'. Depth is the distance along the viewing direction from the eye;
+/// orthographic rays start on the eye's plane.
 pub(super) fn depth_range(b: &Aabb, camera: &Camera) -> (f64, f64) {
     let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
     for j in 0..8 {
@@ -360,11 +362,12 @@ mod tests {
     use frep_core::Model;
 
     /// `set_up_rays` gives each ray of a tile what `RayMaker::ray`,
-    /// `per_dir` and `Ray::clip_inv` give it one at a time, bit for bit: in
-    /// perspective and orthographic views, oblique and straight along an
-    /// axis (directions with zero components, origins on the box's faces,
-    /// whose slab tests meet `0 · ∞`), in tiles narrower than a lane pass
-    /// and cut off by the image's edge, with rays that miss the box.
+    /// `per_dir` and `Ray::clip_inv` give it one at a time, bit for bit.
+    /// Checked in perspective and orthographic views, oblique and straight
+    /// along an axis. The latter have directions with zero components and
+    /// origins on the box's faces, whose slab tests meet `0 · ∞`. Also in
+    /// tiles narrower than a lane pass or cut off by the image's edge, and
+    /// with rays that miss the box.
     #[test]
     fn set_up_rays_match_one_ray_at_a_time() {
         let b = Aabb::new([-1.0, -0.5, -2.0], [1.0, 0.5, 0.0]);

@@ -107,15 +107,18 @@ impl<'a> TileCtx<'a> {
     }
 
     /// Resolves the buffered brackets (evaluator `e`) where the field is
-    /// close to linear: the value and gradient at each bracket's false
-    /// position point (one batch of [`BatchEval::eval_grad`], which the
-    /// normal needs anyway), and where one Newton step along the ray from
-    /// there would move at most [`POLISH_PX`] footprints and stay in the
-    /// bracket, and the slope along the ray is within a factor of two of
-    /// the bracket's secant slope (no kink or bend inside it), the hit is
-    /// that point and its normal the gradient's there (hits recorded into
-    /// `hit_rays`). The brackets left, narrowed to the side of that point
-    /// that holds the crossing, are refined ([`TileCtx::refine`]).
+    /// close to linear.
+    /// 1. The value and gradient at each bracket's false-position point come
+    ///    in one batch of [`BatchEval::eval_grad`]. The normal needs the
+    ///    gradient anyway.
+    /// 2. That point is the hit, and the gradient there its normal, where
+    ///    two things hold. One Newton step along the ray from there would
+    ///    move at most [`POLISH_PX`] footprints and stay in the bracket. The
+    ///    slope along the ray is within a factor of two of the bracket's
+    ///    secant slope, so no kink or bend lies inside.
+    /// 3. Those hits are recorded into `hit_rays`.
+    /// 4. The brackets left are narrowed to the side of that point that
+    ///    holds the crossing, then refined ([`TileCtx::refine`]).
     ///
     /// [`BatchEval::eval_grad`]: frep_core::eval::batch::BatchEval::eval_grad
     fn polish(&mut self, e: usize, hit_rays: &mut Vec<usize>) {
@@ -198,11 +201,11 @@ impl<'a> TileCtx<'a> {
     /// Refines the buffered brackets at once (one batch per step) until
     /// each is at most [`REFINE_PX`] pixel footprints wide (at most
     /// [`REFINE`] steps). Each step tries the false-position point `c` (the
-    /// Illinois rule, kept off the ends) as a pair `c ± tol·0.45`: where
-    /// the crossing lies between the two (a smooth field, after one step
-    /// nearly always) the bracket is done; otherwise the side that holds
-    /// the first crossing is kept. A bracket too narrow for a pair gets
-    /// `c` alone.
+    /// Illinois rule, kept off the ends) as a pair `c ± tol·0.45`. Where
+    /// the crossing lies between the two, the bracket is done. For a smooth
+    /// field that nearly always happens after one step. Otherwise the side
+    /// that holds the first crossing is kept. A bracket too narrow for a
+    /// pair gets `c` alone.
     fn refine(&mut self, e: usize) {
         if self.sc.brackets.is_empty() {
             return;

@@ -1,6 +1,7 @@
-//! The per-thread scratch of the caster ([`Scratch`]): the evaluators of the
-//! root tape and of every shortened tape met so far ([`Evals`]), bounded in
-//! size, and the buffers of a tile's rays, samples, searches and brackets.
+//! The per-thread scratch of the caster ([`Scratch`]). It holds the
+//! evaluators of the root tape and of every shortened tape met so far
+//! ([`Evals`]), bounded in size. It also holds the buffers of a tile's rays,
+//! samples, searches and brackets.
 
 use frep_core::eval::batch::{BatchEval, GradRegs, Trig, LANES};
 use frep_core::eval::grad::Grad;
@@ -26,12 +27,13 @@ pub(super) struct Evals {
     pub(super) mask: ChoiceMask,
     pub(super) interval: IntervalEval,
     batch: Option<BatchEval>,
-    /// Where the field along every ray is a polynomial of degree at most 2,
-    /// up to a map that keeps its sign, so that three samples give it (see
-    /// [`TileCtx::exact`]): `Some(0.0)` where the field is a polynomial of
-    /// degree 2 in the point ([`Tape::polynomial_degree`]), `Some(k)` where
-    /// it is `k − sqrt(p)` with `p` one ([`Tape::root_gap`]; samples `f` map
-    /// to `f·(2k − f) = k² − p`).
+    /// Set where the field along every ray is a polynomial of degree at
+    /// most 2, up to a map that keeps its sign. Three samples then give it
+    /// (see [`TileCtx::exact`]).
+    /// - `Some(0.0)` where the field is a polynomial of degree 2 in the
+    ///   point ([`Tape::polynomial_degree`]).
+    /// - `Some(k)` where it is `k − sqrt(p)` with `p` one
+    ///   ([`Tape::root_gap`]). Samples `f` map to `f·(2k − f) = k² − p`.
     ///
     /// Also `Some(0.0)` where the field is affine in the point (degree 1,
     /// `affine`): its values along each ray then come from [`Evals::plane`]
@@ -92,9 +94,9 @@ pub(super) const NODE_BYTES: usize = 160;
 type ChildEntry = (u32, Box<[Choice]>, u32);
 
 /// Per-thread state of the caster, reused from tile to tile: the evaluators
-/// of the root tape and of every shortened tape met so far (keyed by the
-/// interval choices that produced them, so a tape is never simplified or
-/// compiled twice), and the buffers of a tile.
+/// of the root tape and of every shortened tape met so far, and the buffers
+/// of a tile. The evaluators are keyed by the interval choices that
+/// produced them, so a tape is never simplified or compiled twice.
 pub(super) struct Scratch {
     /// `evals[0]` is the root tape's.
     pub(super) evals: Vec<Evals>,
@@ -212,8 +214,8 @@ pub(super) struct Scratch {
     pub(super) hit_rays: Vec<usize>,
     pub(super) fracs: Vec<f64>,
     /// Crossings found but not refined yet and direct hits not recorded
-    /// yet, one group per evaluator (see [`TileCtx::finish`]): the tile's
-    /// are the first `groups`; the others are kept (empty) for their
+    /// yet, one group per evaluator (see [`TileCtx::finish`]). The tile's
+    /// are the first `groups`. The others are kept, empty, for their
     /// buffers' capacity.
     ///
     /// [`TileCtx::finish`]: crate::raycast::tile::TileCtx::finish
@@ -381,14 +383,17 @@ impl Scratch {
         }
     }
 
-    /// How the leaf points just written (`leaf_rays` with `len` depths
-    /// each) can be evaluated, where the rays run along coordinate axis
-    /// `axis`: as lines where each ray's other two coordinates are the same
-    /// bits at its first and last depth (so at all: the points are
-    /// `origin + 0·t` there, and the depths are monotone), as a grid where
-    /// moreover every ray has the first one's bits along the axis (the same
-    /// depths, origins and steps there), else point by point. Checks
-    /// [`TileCtx::lines`] in debug builds.
+    /// How the leaf points just written can be evaluated, where the rays run
+    /// along coordinate axis `axis` (`leaf_rays`, with `len` depths each).
+    /// - As lines where each ray's other two coordinates are the same bits
+    ///   at its first and last depth. They are then the same at every
+    ///   depth: the points are `origin + 0·t` there, and the depths are
+    ///   monotone.
+    /// - As a grid where, moreover, every ray has the first one's bits along
+    ///   the axis: the same depths, origins and steps there.
+    /// - Else point by point.
+    ///
+    /// Checks [`TileCtx::lines`] in debug builds.
     ///
     /// [`TileCtx::lines`]: crate::raycast::tile::TileCtx::lines
     pub(super) fn sampling(

@@ -7,10 +7,10 @@ use super::scratch::{put_back, set_aside, Search};
 use super::tile::TileCtx;
 
 /// The last two samples of a ray's latest sampled slab without a crossing.
-/// `pending`: the last sample is a local maximum so far (the field rises
-/// towards the slab's end), so a feature thinner than a step may hide just
-/// before it; the next contiguous slab tells whether the rise goes on, and
-/// otherwise the segment is searched (before anything behind it is used).
+/// `pending`: the last sample is a local maximum so far, as the field rises
+/// towards the slab's end. A feature thinner than a step may hide just
+/// before it. The next contiguous slab tells whether the rise goes on. If
+/// it does not, the segment is searched before anything behind it is used.
 #[derive(Clone, Copy, Default)]
 pub(super) struct Tail {
     pub(super) valid: bool,
@@ -31,10 +31,10 @@ impl<'a> TileCtx<'a> {
     }
 
     /// Searches the buffered `searches` (all with evaluator `e`) for a
-    /// feature thinner than a step: each segment is sampled at the midpoints
-    /// of its cells no longer than its `min_len` (the cells an interval
-    /// bisection down to `min_len` would test), all in one batch; the first
-    /// inside midpoint gives a bracket.
+    /// feature thinner than a step. Each segment is sampled at the midpoints
+    /// of its cells no longer than its `min_len`, all in one batch. These
+    /// are the cells an interval bisection down to `min_len` would test. The
+    /// first inside midpoint gives a bracket.
     pub(super) fn run_searches(&mut self, e: usize) {
         if self.sc.searches.is_empty() {
             return;
@@ -96,12 +96,14 @@ impl<'a> TileCtx<'a> {
     }
 
     /// Sets `keep[j]` for each search `list[j]` (ray, from, to, …) whose
-    /// segment's box is not outside on evaluator `e`: one interval
-    /// evaluation over the hull of the segments' boxes, and only where that
-    /// is not outside, the same for each half of the list, down to single
-    /// segments (those evaluated as before). Neighbouring rays' searches
-    /// are mostly outside together: on android_robot's turntable a third
-    /// fewer evaluations, on M3's half.
+    /// segment's box is not outside on evaluator `e`.
+    /// 1. One interval evaluation covers the hull of the segments' boxes.
+    /// 2. Only where that is not outside, each half of the list is checked
+    ///    the same way, down to single segments. Those are evaluated as
+    ///    before.
+    ///
+    /// Neighbouring rays' searches are mostly outside together. This takes
+    /// a third fewer evaluations on android_robot's turntable, half on M3's.
     fn check_searches(&mut self, e: usize, list: &[Search], keep: &mut [bool]) {
         let Some((&(i, a, b, _, _), rest)) = list.split_first() else {
             return;

@@ -1,18 +1,19 @@
-//! The section (clipping) plane ([`Section`]): the part of the solid with
-//! `normal · p > offset` is cut away, showing its inside (the studio's
-//! `SectionPlane` and its client ray caster use the same convention).
+//! The section (clipping) plane ([`Section`]). The part of the solid with
+//! `normal · p > offset` is cut away, showing its inside. The studio's
+//! `SectionPlane` and its client ray caster use the same convention.
 //!
-//! The caster clips by casting a different field: `min(offset − n·p, f)`
-//! (a set intersection with the kept half-space), built once per render
-//! into the model's graph ([`sectioned_tape`]). Every path of the caster
-//! (interval pruning, shortened tapes, quadrics and set expressions in
-//! closed form, the box cut) then handles the plane as any other part of
-//! the model: a ray starts where it enters the kept half-space, and where
-//! the solid is cut its hit lies on the plane with the plane's normal
-//! (the gradient of `offset − n·p` is `−n`). The cut face keeps the model's
-//! attribute colour there; a model without colours shows it in
-//! [`SECTION_CAP`] (the studio's `sectionCap`), as the client modes do
-//! ([`Section::is_on_cap`] tells a cut-face hit).
+//! The caster clips by casting a different field, `min(offset − n·p, f)`:
+//! a set intersection with the kept half-space. It is built into the
+//! model's graph once per render ([`sectioned_tape`]).
+//! - Every path of the caster then handles the plane as any other part of
+//!   the model: interval pruning, shortened tapes, quadrics and set
+//!   expressions in closed form, the box cut.
+//! - A ray starts where it enters the kept half-space.
+//! - Where the solid is cut, its hit lies on the plane, with the plane's
+//!   normal. The gradient of `offset − n·p` is `−n`.
+//! - The cut face keeps the model's attribute colour there. A model without
+//!   colours shows it in [`SECTION_CAP`] (the studio's `sectionCap`), as
+//!   the client modes do. [`Section::is_on_cap`] tells a cut-face hit.
 
 use frep_core::ops::BinaryOp;
 use frep_core::{Model, Tape};

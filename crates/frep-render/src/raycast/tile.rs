@@ -28,13 +28,17 @@ pub(super) struct TileCtx<'a> {
     pub(super) uniform: Option<(f64, f64)>,
     /// Whether a hit was recorded.
     pub(super) any_hit: bool,
-    /// The coordinate axis every ray runs along, where they all do (an
-    /// orthographic view straight along an axis) and share one depth range
-    /// from 0 on, and whether their origins agree along it: a ray's other
-    /// two coordinates are then the same bits at every depth (`o + 0·t`,
-    /// `t >= 0`), and where the origins agree so are the axis coordinates of
-    /// every ray of a leaf (their depths are the same): its samples are
-    /// evaluated as lines, or a grid ([`BatchEval::eval_lines`]).
+    /// The coordinate axis every ray runs along, and whether their origins
+    /// agree along it. Set where all rays run along one axis (an
+    /// orthographic view straight along it) and share one depth range from
+    /// 0 on.
+    /// - A ray's other two coordinates are then the same bits at every
+    ///   depth (`o + 0·t`, `t >= 0`).
+    /// - Where the origins agree, so are the axis coordinates of every ray
+    ///   of a leaf, since their depths are the same.
+    ///
+    /// A leaf's samples are then evaluated as lines, or as a grid
+    /// ([`BatchEval::eval_lines`]).
     ///
     /// [`BatchEval::eval_lines`]: frep_core::eval::batch::BatchEval::eval_lines
     pub(super) lines: Option<(usize, bool)>,
@@ -134,7 +138,7 @@ impl<'a> TileCtx<'a> {
     }
 
     /// Refines and records the deferred crossings and direct hits of the
-    /// tile, one group per evaluator: refinement steps, normals and colours
+    /// tile, one group per evaluator. Refinement steps, normals and colours
     /// then run in batches of up to the whole tile instead of a leaf.
     fn flush_deferred(&mut self) {
         let n = std::mem::take(&mut self.sc.groups);
