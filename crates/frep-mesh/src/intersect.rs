@@ -1,11 +1,13 @@
 //! Self-intersection detection: exact-sign-style triangle–triangle tests in `f64` over a
 //! uniform grid of triangle bounding boxes.
 //!
-//! Two non-coplanar triangles intersect exactly when an edge of one meets the other (the
-//! intersection is a segment whose ends lie on their boundaries), so the test is six
-//! segment–triangle tests after a cheap separating-plane rejection; coplanar pairs use 2D
-//! tests. Pairs that share vertices (by index) are judged by what they share: an edge counts
-//! only when the two triangles fold onto each other, a vertex only when they meet elsewhere.
+//! Two non-coplanar triangles intersect exactly when an edge of one meets the other: the
+//! intersection is a segment whose ends lie on their boundaries.
+//! - So the test is six segment–triangle tests, after a cheap separating-plane rejection.
+//! - Coplanar pairs use 2D tests.
+//! - Pairs that share vertices (by index) are judged by what they share. A shared edge counts
+//!   only when the two triangles fold onto each other. A shared vertex counts only when they
+//!   meet elsewhere.
 
 use crate::mesh::{cross, dot, sub, to_f64, Mesh};
 
@@ -83,10 +85,10 @@ fn segment_triangle(p: V, q: V, t: [V; 3]) -> bool {
 }
 
 /// Whether the projections of two triangles onto some coordinate plane are separated by an
-/// edge line of one of them, the other triangle strictly on the far side: then they are
-/// disjoint, or with `shared = Some((i, j))` (vertex `i` of `t1` is vertex `j` of `t2`, and
-/// the edge line passes through it) they meet only there. The 2D tests are far better
-/// conditioned than the 3D orientations, which misjudge nearly coplanar pairs.
+/// edge line of one of them, the other triangle strictly on the far side. Then they are
+/// disjoint. With `shared = Some((i, j))`, they meet only there: vertex `i` of `t1` is vertex
+/// `j` of `t2`, and the edge line passes through it. The 2D tests are far better conditioned
+/// than the 3D orientations, which misjudge nearly coplanar pairs.
 fn projections_separated(t1: [V; 3], t2: [V; 3], shared: Option<(usize, usize)>) -> bool {
     (0..3).any(|k| {
         let (i, j) = ((k + 1) % 3, (k + 2) % 3);

@@ -1,11 +1,13 @@
-//! Triangle meshes for FRep models: the [`Mesh`] type, checks that tests of the polygonizers
-//! rely on ([`Mesh::topology`], [`Mesh::self_intersections`], [`Mesh::max_distance_to`]) and
-//! file formats ([`export`]).
+//! Triangle meshes for FRep models:
+//! - the [`Mesh`] type;
+//! - checks that tests of the polygonizers rely on ([`Mesh::topology`],
+//!   [`Mesh::self_intersections`], [`Mesh::max_distance_to`]);
+//! - file formats ([`export`]).
 //!
-//! Invariant: only the [`export`] module does I/O; the mesh type and its checks are pure
-//! computation, so that the polygonizers that will live in this crate stay free of I/O.
-//! The `export` feature (on by default) gates the formats and their dependencies (meshopt is
-//! C++); without it the crate builds for `wasm32-unknown-unknown`.
+//! Invariant: only the [`export`] module does I/O. The mesh type and its checks are pure
+//! computation, so that the polygonizers in this crate stay free of I/O. The `export` feature
+//! (on by default) gates the formats and their dependencies (meshopt is C++). Without it the
+//! crate builds for `wasm32-unknown-unknown`.
 #![warn(missing_docs)]
 
 #[cfg(feature = "export")]

@@ -5,7 +5,7 @@ use crate::mesh::{dot, Mesh};
 /// Topological summary of a [`Mesh`], from [`Mesh::topology`].
 ///
 /// Triangles with a repeated index are counted in `degenerate_triangles` and otherwise
-/// ignored; vertices that no triangle uses are counted in `isolated_vertices` and left out of
+/// ignored. Vertices that no triangle uses are counted in `isolated_vertices`, and left out of
 /// `vertices` and the Euler characteristic.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Topology {

@@ -1,19 +1,23 @@
 //! glTF 2.0 binary (`.glb`) with quantized attributes, optionally compressed with
 //! `EXT_meshopt_compression`.
 //!
-//! Layout (both variants): one mesh with one indexed triangle primitive;
-//! `POSITION` as unnormalized `u16` (stride 8) under a node whose uniform scale and
-//! translation map the grid back onto the bounding box (`KHR_mesh_quantization`);
-//! `NORMAL` as normalized `i8` (stride 4); `COLOR_0` as normalized `u8` (stride 4) holding
-//! *linear* RGB as glTF requires (mesh colours are sRGB and are converted both ways);
-//! indices as `u16` when the vertices allow, else `u32`.
+//! Layout (both variants): one mesh with one indexed triangle primitive.
+//! - `POSITION` as unnormalized `u16` (stride 8), under a node whose uniform scale and
+//!   translation map the grid back onto the bounding box (`KHR_mesh_quantization`).
+//! - `NORMAL` as normalized `i8` (stride 4).
+//! - `COLOR_0` as normalized `u8` (stride 4), holding *linear* RGB as glTF requires. Mesh
+//!   colours are sRGB and are converted both ways.
+//! - Indices as `u16` when the vertices allow, else `u32`.
 //!
-//! The meshopt variant first reorders triangles for the vertex cache and vertices for fetch
-//! order, then stores each buffer view compressed in the GLB binary chunk (attribute codec
-//! version 0, whose header byte `0xa0` the extension specifies; triangle codec version 1;
-//! octahedral filter for normals). The parent buffer views point into a placeholder buffer
-//! without a URI marked `fallback: true`, so both extensions are required, as the
-//! specification allows for files without uncompressed data.
+//! The meshopt variant:
+//! 1. reorders triangles for the vertex cache, and vertices for fetch order;
+//! 2. stores each buffer view compressed in the GLB binary chunk. It uses attribute codec
+//!    version 0 (whose header byte `0xa0` the extension specifies), triangle codec version 1,
+//!    and the octahedral filter for normals.
+//!
+//! The parent buffer views point into a placeholder buffer without a URI, marked
+//! `fallback: true`. So both extensions are required, as the specification allows for files
+//! without uncompressed data.
 
 use std::io::{self, Write};
 

@@ -10,16 +10,16 @@ use super::{Ctx, KeyMap, DC_SLACK};
 
 impl Ctx<'_> {
     /// Adaptive dual contouring ([`MeshSettings::adaptive`]): the blocks of 2×2×2, 4×4×4, …
-    /// cubes of brick `o` that collapse to one vertex, as `cube's vertex key → (merged
-    /// vertex's key, position, normal)`. Bottom-up (Ju et al. 2002, "Dual Contouring of Hermite
-    /// Data", §4.2), a block of side `S` collapses when
+    /// cubes of brick `o` that collapse to one vertex. They come as `cube's vertex key →
+    /// (merged vertex's key, position, normal)`. The work goes bottom-up (Ju et al. 2002,
+    /// "Dual Contouring of Hermite Data", §4.2). A block of side `S` collapses when
     /// - its 8 sub-blocks are empty or collapsed (cubes: one polygon), and all its samples are
     ///   real (no cap);
     /// - as one cube (its 8 corner samples) it has one polygon and no ambiguous face;
-    /// - its topology is the coarse cube's: the sample in the middle of each coarse edge has
-    ///   the sign of one of the edge's ends, the one in the middle of each face the sign of
-    ///   one of the face's corners, the centre the sign of one of the corners (the finer
-    ///   samples were checked by the sub-blocks);
+    /// - its topology is the coarse cube's. The sample in the middle of each coarse edge has
+    ///   the sign of one of the edge's ends. The one in the middle of each face has the sign
+    ///   of one of the face's corners, and the centre that of one of the corners. The finer
+    ///   samples were checked by the sub-blocks;
     /// - the vertex of the QEF of all its crossings, snapped onto the surface, lies within
     ///   `tol` cell of every crossing's tangent plane.
     ///
@@ -142,8 +142,9 @@ impl Ctx<'_> {
     }
 
     /// Whether the block of `side` cubes at `q0` is one coarse cube topologically (see
-    /// [`Ctx::collapse`]): real samples, one polygon, no ambiguous face, the signs in the
-    /// middle of its edges and faces and at its centre those of one of their corners.
+    /// [`Ctx::collapse`]). It needs real samples, one polygon and no ambiguous face. The signs
+    /// in the middle of its edges and faces and at its centre are those of one of their
+    /// corners.
     fn coarse_ok(&self, at: &impl Fn([i32; 3]) -> bool, q0: [i32; 3], side: i32) -> bool {
         let g = &self.grid;
         if (0..3).any(|a| q0[a] + side >= g.n[a]) {

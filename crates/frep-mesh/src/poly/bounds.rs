@@ -73,11 +73,11 @@ pub fn parse_grid(s: &str, bounds: &[f64; 6]) -> Result<Resolution, String> {
 const SCAN_DEPTH: u32 = 5;
 
 /// The work [`detect`] may do, all scans together, in interval evaluations
-/// times the tape's length (interval operations cost 7–230 ns each: 0.1–1 s at
-/// most, tens of milliseconds for the corpus's models). Without it, a model
-/// whose interval bounds prune nothing (noise terms, machine-generated chains
-/// of `atan2`) refined every scan to the full depth: seconds, or minutes for a
-/// long tape.
+/// times the tape's length. Interval operations cost 7–230 ns each, so that is
+/// 0.1–1 s at most, and tens of milliseconds for the corpus's models. Some
+/// models' interval bounds prune nothing: noise terms, machine-generated chains
+/// of `atan2`. Without the budget, those refined every scan to the full depth:
+/// seconds, or minutes for a long tape.
 const WORK_BUDGET: usize = 8_000_000;
 
 /// Interval evaluations of one scan at most (a short tape's budget is
@@ -174,13 +174,16 @@ fn scan(
     (s.ev, found)
 }
 
-/// Detects a box around the model's solid: cubes `±2^k` (k = 0..=10) are scanned with
-/// interval arithmetic until the solid lies strictly inside one; the box is then tightened by
-/// a second scan and grown by 5 % on each side. `None` when no solid is found or when it
-/// reaches even `±1024` (an unbounded solid such as a half-space): use an explicit box then
-/// (hfp's default is [`HFP_DEFAULT`]). All scans together do a bounded amount of work
-/// (`WORK_BUDGET`): where intervals prune nothing, the budget runs out, the cells left
-/// count as solid and the answer is `None` within milliseconds.
+/// Detects a box around the model's solid.
+/// 1. Cubes `±2^k` (k = 0..=10) are scanned with interval arithmetic until the solid lies
+///    strictly inside one.
+/// 2. The box is then tightened by a second scan and grown by 5 % on each side.
+///
+/// `None` when no solid is found, or when it reaches even `±1024` (an unbounded solid such as
+/// a half-space). Use an explicit box then; hfp's default is [`HFP_DEFAULT`]. All scans
+/// together do a bounded amount of work (`WORK_BUDGET`). Where intervals prune nothing, the
+/// budget runs out and the cells left count as solid. The answer is then `None` within
+/// milliseconds.
 pub fn detect(model: &Model, inputs: &Inputs) -> Option<[f64; 6]> {
     let tape = model.tape();
     let mut budget = WORK_BUDGET / tape.len().max(1);
@@ -309,8 +312,8 @@ mod tests {
 
     #[test]
     fn frames_a_noisy_offset_sphere_by_its_extent() {
-        // A sphere of radius 3 at (5, 0, 0) with a noise term of amplitude at most
-        // (1 + 1/1.17)^3 ≈ 6.4 in the field: the solid reaches at most radius
+        // A sphere of radius 3 at (5, 0, 0) with a noise term in the field. Its amplitude is
+        // at most (1 + 1/1.17)^3 ≈ 6.4, so the solid reaches at most radius
         // sqrt(9 + 6.4) ≈ 3.93 from the centre.
         let src = "my_model(x[3], a[1]) {\n my_model = 9 - ((x[1]-5)^2 + x[2]^2 + x[3]^2)\n   + hfNoiseG(x, 1, 2, 0.5);\n}";
         let m = Model::compile(src).unwrap();

@@ -168,7 +168,7 @@ impl Ctx<'_> {
             pos[*i] = [0, 1, 2].map(|k| a[k] + t * (b[k] - a[k]));
         }
         // Normals: central differences at `NORMAL_STEP` of a cell, all crossings of the brick
-        // in one batch (six points each); where they vanish or are not finite (a flat or
+        // in one batch (six points each). Where they vanish or are not finite (a flat or
         // singular field there), forward-mode differentiation.
         let hs = g.h.map(|c| c * NORMAL_STEP);
         for v in [&mut *xs, &mut *ys, &mut *zs, &mut *f] {
@@ -206,9 +206,9 @@ impl Ctx<'_> {
     }
 
     /// Moves a dual-contouring vertex onto the surface by Newton steps along the gradient,
-    /// staying in the cube `[lo, hi]`: where the QEF minimizer had to be clamped (a crease that
-    /// leaves the cube) or the tangent planes disagree (curvature), the vertex would
-    /// otherwise sit off the surface. On a crease `f ≈ 0` already and nothing moves.
+    /// staying in the cube `[lo, hi]`. Without it, the vertex would sit off the surface where
+    /// the QEF minimizer had to be clamped (a crease that leaves the cube), or where the
+    /// tangent planes disagree (curvature). On a crease `f ≈ 0` already and nothing moves.
     pub(super) fn snap(
         &self,
         ge: &mut GradEval,

@@ -1,20 +1,24 @@
 //! How far a mesh is from a model's surface: a symmetric Hausdorff estimate.
 //!
-//! - **mesh → surface**: sample points (every vertex, every triangle's centroid and edge
-//!   midpoints) are projected onto the surface `f = 0` by Newton steps along `∇f`
-//!   (`p ← p − f ∇f / |∇f|²`, each step at most one cell); the distance travelled is the
-//!   point's error. Unlike the first-order `|f| / |∇f|`, this stays right for fields that are
-//!   not distances (R-functions, squared distances) away from the surface. A Newton path
-//!   follows `∇f`, which where the gradient is small (a saddle of an R-function's field) can
-//!   lead far from the nearest surface point: the distance to the nearest sign change along a
-//!   fan of 256 rays, also an upper bound, is taken where it is smaller (checked for the
-//!   points that decide the maximum).
-//! - **surface → mesh**: dense surface points, the edge crossings of the lattice at twice the
-//!   resolution (the vertices of [`Method::Watertight`] at `depth + 1`, projected the same
-//!   way), each measured to its nearest triangle (a uniform grid of triangles).
+//! - **mesh → surface**: sample points are every vertex, and every triangle's centroid and
+//!   edge midpoints.
+//!   - Each is projected onto the surface `f = 0` by Newton steps along `∇f`
+//!     (`p ← p − f ∇f / |∇f|²`, each step at most one cell).
+//!   - The distance travelled is the point's error. Unlike the first-order `|f| / |∇f|`, this
+//!     stays right away from the surface for fields that are not distances (R-functions,
+//!     squared distances).
+//!   - A Newton path follows `∇f`. Where the gradient is small (a saddle of an R-function's
+//!     field), that can lead far from the nearest surface point.
+//!   - So the distance to the nearest sign change along a fan of 256 rays, also an upper
+//!     bound, is taken where it is smaller. It is checked for the points that decide the
+//!     maximum.
+//! - **surface → mesh**: dense surface points, each measured to its nearest triangle (a
+//!   uniform grid of triangles). The points are the edge crossings of the lattice at twice
+//!   the resolution: the vertices of [`Method::Watertight`] at `depth + 1`, projected the
+//!   same way.
 //!
-//! Points within `margin` of the box faces are left out (caps lie on the box, and other
-//! meshers leave the mesh open there).
+//! Points within `margin` of the box faces are left out. Caps lie on the box, and other
+//! meshers leave the mesh open there.
 
 use frep_core::eval::grad::GradEval;
 use frep_core::{Inputs, Model, Tape};
@@ -91,10 +95,10 @@ const RAYS: usize = 256;
 const RAY_STEPS_PER_CELL: f64 = 16.0;
 
 /// The distance from `p` to the nearest sign change of `f` along [`RAYS`] directions, searched
-/// up to `limit` (then bisected): an upper bound on the distance to the surface, like the
-/// Newton projection's, but not led astray where the gradient is small or turns (a Newton
-/// path follows `∇f`, which near a saddle of an R-function's field points far from the nearest
-/// surface point). `limit` when no ray changes sign before it.
+/// up to `limit` (then bisected). Like the Newton projection's, it is an upper bound on the
+/// distance to the surface. But it is not led astray where the gradient is small or turns. A
+/// Newton path follows `∇f`, which near a saddle of an R-function's field points far from the
+/// nearest surface point. `limit` when no ray changes sign before it.
 fn ray_distance(ge: &mut GradEval, inputs: &Inputs, p: [f64; 3], limit: f64, cell: f64) -> f64 {
     let f0 = ge.eval(p[0], p[1], p[2], inputs).v;
     if !f0.is_finite() || f0 == 0.0 {
@@ -144,11 +148,13 @@ fn ray_distance(ge: &mut GradEval, inputs: &Inputs, p: [f64; 3], limit: f64, cel
     best
 }
 
-/// Largest distance to the surface over `pts`, and where: each point's Newton projection
-/// distance (first-order `|f| / |∇f|` where it does not converge), lowered to the nearest sign
-/// change along a fan of rays ([`ray_distance`], also an upper bound) for the points that could
-/// be the largest: in decreasing order of the projection distance until it falls below the
-/// largest refined distance.
+/// Largest distance to the surface over `pts`, and where.
+/// - Each point's distance is its Newton projection distance, or the first-order
+///   `|f| / |∇f|` where that does not converge.
+/// - For the points that could be the largest, it is lowered to the nearest sign change along
+///   a fan of rays ([`ray_distance`], also an upper bound).
+/// - Those points are taken in decreasing order of the projection distance, until it falls
+///   below the largest refined distance.
 fn max_projection(tape: &Tape, inputs: &Inputs, pts: &[[f64; 3]], cell: f64) -> (f64, [f64; 3]) {
     let chunks: Vec<&[[f64; 3]]> = pts.chunks(4096).collect();
     let mut dist: Vec<(f64, [f64; 3])> = par_map(&chunks, |c| {

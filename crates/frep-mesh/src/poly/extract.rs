@@ -359,10 +359,10 @@ impl Ctx<'_> {
                     out.aliases.push((key, rep));
                 }
             }
-            // Vertices may leave their cube by up to a cell: a crease (a groove of a union)
+            // Vertices may leave their cube by up to a cell. A crease (a groove of a union)
             // can run outside the cubes whose crossings see both of its sheets, through cubes
-            // whose samples all lie inside (M2's necks: with half a cell, the groove was cut
-            // off by 0.25 cell at depth 7).
+            // whose samples all lie inside. On M2's necks with half a cell, the groove was cut
+            // off by 0.25 cell at depth 7.
             // Not on the box: cap vertices stay on its faces.
             let slack = if g.is_virtual(*q) || g.is_virtual(add(*q, [1, 1, 1])) {
                 0.0
@@ -406,9 +406,9 @@ impl Ctx<'_> {
                 eb[bx] = 1;
                 let mut ec = [0; 3];
                 ec[cx] = 1;
-                // The cubes around the edge in order; in each, the polygon holding the
-                // segment on the face shared with the previous cube, then (when the edge
-                // ends a chord there) the one on the face shared with the next.
+                // The cubes around the edge in order. In each, first the polygon holding
+                // the segment on the face shared with the previous cube. Then, when the
+                // edge ends a chord there, the one on the face shared with the next.
                 let mut ring: Vec<u64> = Vec::with_capacity(4);
                 for (slot, d) in [[0, 0, 0], eb, add(eb, ec), ec].iter().enumerate() {
                     let qn = [q[0] - d[0], q[1] - d[1], q[2] - d[2]];

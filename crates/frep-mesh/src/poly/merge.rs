@@ -19,10 +19,10 @@ fn split_lens<T>(mut v: &mut [T], lens: impl Iterator<Item = usize>) -> Vec<&mut
     out
 }
 
-/// The merge of marching-cubes bricks (`tris` and `shared`): each brick's vertices in
-/// order, a vertex on a shared edge only from the first brick that has it, then the
-/// brick's triangles, renumbered. Only the shared vertices go through one hash map, in
-/// brick order; numbering and copying run in parallel.
+/// The merge of marching-cubes bricks (`tris` and `shared`). Each brick gives its vertices
+/// in order, then its triangles, renumbered. A vertex on a shared edge comes only from the
+/// first brick that has it. Only the shared vertices go through one hash map, in brick
+/// order. Numbering and copying run in parallel.
 pub(super) fn merge_marching(outs: &mut [BrickOut], mesh: &mut Mesh, with_colors: bool) {
     // Shared vertices met before: (this brick's vertex, earlier brick, its vertex), in the
     // order of this brick's vertices; `ends[b]` ends brick b's.

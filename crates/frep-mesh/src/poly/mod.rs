@@ -1,57 +1,77 @@
 //! The polygonizer: closed, outward-oriented meshes of a model's solid `f ≥ 0` in a box.
 //!
 //! ## Lattice
-//! The box is cut into cubic-ish cells, `2^depth` along its longest side; the field is sampled
-//! at cell **centres**. One virtual layer of samples lies *on* the box faces and counts as
-//! outside, so that where the solid reaches the box the surface closes on the box faces (cap
-//! vertices lie exactly on the faces). NaN counts as outside; a sample is inside iff `f ≥ 0`.
+//! - The box is cut into cubic-ish cells, `2^depth` along its longest side.
+//! - The field is sampled at cell **centres**.
+//! - One virtual layer of samples lies *on* the box faces and counts as outside. So where the
+//!   solid reaches the box, the surface closes on the box faces: cap vertices lie exactly on
+//!   the faces.
+//! - NaN counts as outside. A sample is inside iff `f ≥ 0`.
 //!
 //! ## Octree and bricks
-//! An octree over the cells descends from the whole box; each node's box (grown by one cell,
-//! so that it covers the edges to its neighbours' samples) is evaluated with interval
-//! arithmetic on the node's tape. A node strictly inside (`f > 0`) or outside (`f < 0` or NaN)
-//! is pruned; otherwise the tape is shortened for the node ([`SimplifyMode::Sign`]: the sign
-//! of `f` and its gradient on the surface are kept) and its children are visited in parallel
-//! (rayon). Nodes of `BRICK³` cells are evaluated in batches ([`BatchEval`]) on their own
-//! tape. Every lattice sample thus has one canonical sign: its brick's, or its pruned node's.
+//! 1. An octree over the cells descends from the whole box.
+//! 2. Each node's box is evaluated with interval arithmetic on the node's tape. The box is
+//!    grown by one cell, so that it covers the edges to its neighbours' samples.
+//! 3. A node strictly inside (`f > 0`) or outside (`f < 0` or NaN) is pruned.
+//! 4. Otherwise the tape is shortened for the node ([`SimplifyMode::Sign`]), keeping the sign
+//!    of `f` and its gradient on the surface. The node's children are visited in parallel
+//!    (rayon).
+//! 5. Nodes of `BRICK³` cells are evaluated in batches ([`BatchEval`]) on their own tape.
+//!
+//! Every lattice sample thus has one canonical sign: its brick's, or its pruned node's.
 //!
 //! ## Extraction
-//! Marching-cubes cubes join 8 neighbouring samples. A cube is handled by exactly one brick
-//! (the first evaluated brick among its corners' bricks, else the first inside brick on the
-//! box boundary), in parallel. Crossing edges get a vertex: on the box face for a virtual end,
-//! otherwise found by Illinois regula falsi on the edge with the brick's tape (`Watertight`,
-//! `DualContouring`) or by linear interpolation of the samples (`MarchingCubes`). The cases
-//! come from one face rule ([`table`]), so cubes that share a face agree and the mesh is closed.
+//! Marching-cubes cubes join 8 neighbouring samples.
+//! - A cube is handled by exactly one brick, in parallel. That is the first evaluated brick
+//!   among its corners' bricks, else the first inside brick on the box boundary.
+//! - Crossing edges get a vertex. For a virtual end it lies on the box face.
+//! - Otherwise `Watertight` and `DualContouring` find it by Illinois regula falsi on the edge,
+//!   with the brick's tape. `MarchingCubes` interpolates the samples linearly.
+//! - The cases come from one face rule ([`table`]). So cubes that share a face agree, and the
+//!   mesh is closed.
+//!
+//! The methods:
 //! - [`Method::Watertight`]: the marching-cubes polygons, vertices shared by edge.
-//! - [`Method::DualContouring`]: one vertex per polygon (component) per cube, placed by a QEF
-//!   of its crossings and gradient normals (sharp features), one quad per crossing edge: the
-//!   dual of the marching-cubes mesh, hence a closed 2-manifold as well. A polygon that
-//!   crosses one cube face twice (walls about a cell thick) is first split in two by a chord
-//!   ([`table::DualCase`]): otherwise two such polygons of neighbouring cubes would share two
-//!   segments and their vertices a doubled (non-manifold) edge. The edges at a chord's ends
-//!   get a fan around their crossing instead of a quad. The QEF minimizer may leave its cube
-//!   by one cell (a union's groove less than a cell deep runs through cubes whose samples all
-//!   lie on one side, next to the cubes that see both sheets), then a few Newton steps move the vertex
-//!   onto the surface (a vertex on a crease does not move).
+//! - [`Method::DualContouring`]: one vertex per polygon (component) per cube, and one quad per
+//!   crossing edge.
+//!   - The vertex is placed by a QEF of its crossings and gradient normals (sharp features).
+//!   - The mesh is the dual of the marching-cubes mesh, hence a closed 2-manifold as well.
+//!   - A polygon that crosses one cube face twice (walls about a cell thick) is first split in
+//!     two by a chord ([`table::DualCase`]). Otherwise two such polygons of neighbouring cubes
+//!     would share two segments, and their vertices a doubled (non-manifold) edge.
+//!   - The edges at a chord's ends get a fan around their crossing instead of a quad.
+//!   - The QEF minimizer may leave its cube by one cell. A union's groove less than a cell
+//!     deep runs through cubes whose samples all lie on one side, next to the cubes that see
+//!     both sheets.
+//!   - Then a few Newton steps move the vertex onto the surface. A vertex on a crease does
+//!     not move.
 //!
 //!   **Adaptive** ([`MeshSettings::adaptive`]): within each brick, blocks of 2×2×2, then
-//!   4×4×4, 8×8×8 cubes collapse to one vertex, bottom-up, when their sub-blocks did, the
-//!   block is topologically one cube (Ju et al. 2002: one polygon, no ambiguous face, the
-//!   signs in the middle of its edges and faces and at its centre those of one of their
-//!   corners) and the vertex of the merged QEF lies within the threshold of every crossing's
-//!   tangent plane. The quads are still made per cube edge on the finest lattice, with the
-//!   vertex keys of a collapsed block's cubes mapped to its one vertex: the quads inside the
-//!   block vanish, those across its faces become triangles, so the mesh is still the closed
-//!   2-manifold dual of the (now adaptive) cells.
-//! - [`Method::MarchingCubes`]: the classic baseline: uniform grid, no pruning, no
+//!   4×4×4, 8×8×8 cubes collapse to one vertex, bottom-up. A block collapses when:
+//!   - its sub-blocks did;
+//!   - it is topologically one cube (Ju et al. 2002): one polygon, no ambiguous face, and the
+//!     signs in the middle of its edges and faces and at its centre those of one of their
+//!     corners;
+//!   - the vertex of the merged QEF lies within the threshold of every crossing's tangent
+//!     plane.
+//!
+//!   The quads are still made per cube edge on the finest lattice. The vertex keys of a
+//!   collapsed block's cubes map to its one vertex. So the quads inside the block vanish, and
+//!   those across its faces become triangles. The mesh is still the closed 2-manifold dual of
+//!   the (now adaptive) cells.
+//! - [`Method::MarchingCubes`]: the classic baseline. Uniform grid, no pruning, no
 //!   simplification, linear interpolation, normals from the triangles.
 //!
 //! ## Code
-//! `settings` (what to mesh, errors, progress, cancellation), `grid` (the lattice and its
-//! signs), `octree` (interval pruning, brick evaluation), `crossings` (roots on edges, snapping
-//! vertices), `extract` (marching-cubes polygons and dual-contouring quads per brick),
-//! `adaptive` (collapsed blocks), `merge` (bricks joined into one mesh), `simplify` (meshopt);
-//! this file holds the constants, the context and the driver ([`polygonize`]).
+//! - `settings`: what to mesh, errors, progress, cancellation.
+//! - `grid`: the lattice and its signs.
+//! - `octree`: interval pruning, brick evaluation.
+//! - `crossings`: roots on edges, snapping vertices.
+//! - `extract`: marching-cubes polygons and dual-contouring quads per brick.
+//! - `adaptive`: collapsed blocks.
+//! - `merge`: bricks joined into one mesh.
+//! - `simplify`: meshopt.
+//! - This file: the constants, the context and the driver ([`polygonize`]).
 //!
 //! [`SimplifyMode::Sign`]: frep_core::simplify::SimplifyMode::Sign
 //! [`BatchEval`]: frep_core::eval::batch::BatchEval

@@ -17,9 +17,9 @@ use super::grid::OFFS;
 use super::settings::{MeshError, Method};
 use super::{par_map, Ctx};
 
-/// Batch evaluators compiled on this thread, by tape: bricks mostly share a few shortened
-/// tapes, and compiling one (a copy of the tape, its register program and registers) per
-/// brick cost more than evaluating it.
+/// Batch evaluators compiled on this thread, by tape. Bricks mostly share a few shortened
+/// tapes. Compiling one per brick (a copy of the tape, its register program and registers)
+/// cost more than evaluating it.
 #[derive(Default)]
 struct BatchCache {
     /// (hash of the tape, its evaluator), most recently used last.

@@ -1,11 +1,13 @@
 //! The quadratic error function of dual contouring: the point closest (in the least-squares
 //! sense) to the tangent planes of a cell's edge crossings.
 
-/// Eigenvalues of the QEF's matrix below this fraction of the largest are dropped. At 0.1
-/// (normals less than about 35° apart read as one plane), blunt creases — a blend, a small
-/// torus meeting a plane, the gyroid clipped by its sphere — were smoothed over (H 0.37 and
-/// 1.94 cell on complex_hemisphere and M3 at depth 7, against 0.21 and 0.96 at 0.01, normals
-/// about 11° apart); the vertex is snapped onto the surface afterwards either way.
+/// Eigenvalues of the QEF's matrix below this fraction of the largest are dropped.
+/// - At 0.1, normals less than about 35° apart read as one plane. Blunt creases were then
+///   smoothed over: a blend, a small torus meeting a plane, the gyroid clipped by its sphere.
+/// - H was 0.37 and 1.94 cell on complex_hemisphere and M3 at depth 7. At 0.01 (normals
+///   about 11° apart) it is 0.21 and 0.96.
+///
+/// The vertex is snapped onto the surface afterwards either way.
 const TRUNCATE: f64 = 0.01;
 
 /// Eigen-decomposition of a symmetric 3×3 matrix by Jacobi rotations: `(values, vectors)`,
@@ -51,9 +53,10 @@ fn eigen_sym(mut a: [[f64; 3]; 3]) -> ([f64; 3], [[f64; 3]; 3]) {
     ([a[0][0], a[1][1], a[2][2]], v)
 }
 
-/// Minimizes `Σ (nᵢ · (x − pᵢ))²` with a truncated pseudo-inverse around the mass point
-/// (directions the normals do not constrain, eigenvalues below [`TRUNCATE`] of the largest,
-/// stay at the mass point), then clamps to the box `[lo, hi]`. Normals need not be unit; non-finite ones are skipped.
+/// Minimizes `Σ (nᵢ · (x − pᵢ))²` with a truncated pseudo-inverse around the mass point,
+/// then clamps to the box `[lo, hi]`. Directions the normals do not constrain (eigenvalues
+/// below [`TRUNCATE`] of the largest) stay at the mass point. Normals need not be unit;
+/// non-finite ones are skipped.
 pub fn solve(points: &[[f64; 3]], normals: &[[f64; 3]], lo: [f64; 3], hi: [f64; 3]) -> [f64; 3] {
     let n = points.len().max(1) as f64;
     let mut m = [0.0; 3];
@@ -127,10 +130,10 @@ mod tests {
 
     #[test]
     fn shallow_ridge() {
-        // Two planes 20° apart meeting on the y axis (a blunt crease, as a blend or a torus
-        // gives at depth 6–7): the vertex lies on the crease, not at the mass point's
-        // projection (x = -0.15), although the crease direction's eigenvalue is 3 % of the
-        // largest.
+        // Two planes 20° apart meeting on the y axis: a blunt crease, as a blend or a torus
+        // gives at depth 6–7. The vertex lies on the crease, not at the mass point's
+        // projection (x = -0.15). That holds although the crease direction's eigenvalue is
+        // 3 % of the largest.
         let (s, c) = 10f64.to_radians().sin_cos();
         let t = s / c;
         let pts = [[-0.5, 0.0, -0.5 * t], [0.2, 0.0, -0.2 * t]];

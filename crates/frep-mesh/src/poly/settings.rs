@@ -59,11 +59,11 @@ pub struct MeshSettings {
     /// Error-bounded simplification after meshing, the bound as a fraction of the cell size
     /// (e.g. 0.1); needs the `export` feature (meshopt). `None`: off.
     pub simplify: Option<f64>,
-    /// Adaptive dual contouring: blocks of 2×2×2, 4×4×4, … cubes (up to a brick) whose merged
-    /// QEF's vertex lies within this fraction of the cell size of every crossing's tangent
-    /// plane, and whose collapse is topologically safe, get one vertex (bigger polygons on flat
-    /// regions; the mesh stays a closed 2-manifold). [`Method::DualContouring`] only (ignored
-    /// by the other methods); `None`: off.
+    /// Adaptive dual contouring: blocks of 2×2×2, 4×4×4, … cubes (up to a brick) get one
+    /// vertex. A block qualifies when its collapse is topologically safe and its merged QEF's
+    /// vertex lies within this fraction of the cell size of every crossing's tangent plane.
+    /// Flat regions get bigger polygons; the mesh stays a closed 2-manifold.
+    /// [`Method::DualContouring`] only (ignored by the other methods); `None`: off.
     pub adaptive: Option<f64>,
     /// Per-vertex colours from the attributes `s[1..3]` (when the model declares `s`).
     pub colors: bool,

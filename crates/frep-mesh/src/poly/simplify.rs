@@ -3,11 +3,14 @@
 
 use crate::Mesh;
 
-/// [`simplify_mesh`], then a check that the result keeps what the input had: closed,
-/// 2-manifold, consistently oriented, no degenerate triangles, the same components and Euler
-/// characteristic (genus), and, when `intersections`, no self-intersections. A result that
-/// fails is dropped and the simplification retried with half the error (three tries); the
-/// mesh stays unsimplified when every try fails. Returns the error bound that was kept.
+/// [`simplify_mesh`], then a check that the result keeps what the input had:
+/// - closed, 2-manifold, consistently oriented, no degenerate triangles;
+/// - the same components and Euler characteristic (genus);
+/// - when `intersections`, no self-intersections.
+///
+/// A result that fails is dropped, and the simplification retried with half the error (three
+/// tries). The mesh stays unsimplified when every try fails. Returns the error bound that was
+/// kept.
 #[cfg(feature = "export")]
 pub fn simplify_verified(mesh: &mut Mesh, error: f32, intersections: bool) -> Option<f32> {
     let before = mesh.topology();

@@ -149,12 +149,12 @@ pub fn cases() -> &'static [Case; 256] {
     })
 }
 
-/// The polygons of a case for dual contouring: like [`Case`], but a polygon that crosses one
-/// face of the cube twice (both segments of an ambiguous face; 36 case polygons, walls about
-/// one cell thick) is split in two by a chord between its crossings, one half per segment.
-/// Two polygons of neighbouring cubes then share at most one segment, so their dual vertices
-/// share at most one edge: without the split, a thin wall can give two cubes' vertices two
-/// edges (a doubled, non-manifold edge of the dual mesh).
+/// The polygons of a case for dual contouring. They are like [`Case`]'s, but a polygon that
+/// crosses one face of the cube twice is split in two by a chord between its crossings, one
+/// half per segment. Such a polygon holds both segments of an ambiguous face: 36 case
+/// polygons, walls about one cell thick. Two polygons of neighbouring cubes then share at
+/// most one segment, so their dual vertices share at most one edge. Without the split, a thin
+/// wall can give two cubes' vertices two edges: a doubled, non-manifold edge of the dual mesh.
 #[derive(Clone, Debug, Default)]
 pub struct DualCase {
     /// Polygons (edge ids, counter-clockwise from outside).
