@@ -1,7 +1,7 @@
 //! frep's kernel figures, and fidget's on the same models in the same run.
 //!
 //! Run: `scripts/bench-core.sh` (= `cargo bench -p frep-bench --features
-//! anchors --bench core`); without `--features anchors` only frep's figures
+//! anchors --bench core`). Without `--features anchors` only frep's figures
 //! are measured. Criterion ids:
 //! - `compile/<model>`: `Model::compile` and `Model::tape` of each example
 //!   and of each file of the shared HyperFun corpus (when present);
@@ -12,10 +12,10 @@
 //!   the same box, one interval evaluation each (no tape simplification).
 //!
 //! fidget evaluates the examples translated by `frep_bench::to_fidget`
-//! (negated, R-functions expanded); models it cannot express are skipped
+//! (negated, R-functions expanded). Models it cannot express are skipped
 //! with a note. After criterion, a plain table repeats the figures from a
-//! quick loop of its own (the minimum of several repeats) with the ratios
-//! frep / fidget: above 1, frep is faster.
+//! quick loop of its own (the minimum of several repeats). It adds the
+//! ratios frep / fidget: above 1, frep is faster.
 //!
 //! Environment: `FREP_HYPERFUN_CORPUS` (the corpus folder),
 //! `FREP_BENCH_CRITERION=0` (table only), `FREP_BENCH_TABLE=0` (criterion only).
@@ -325,9 +325,9 @@ fn best_of(mut f: impl FnMut()) -> Duration {
     best_of_each(&mut [&mut f])[0]
 }
 
-/// The fastest run of each of `fs`, run in interleaved rounds (at least 3,
-/// until 0.4 s per function or 20 rounds) so that a load change on the
-/// machine affects all of them alike, and their ratios stay meaningful.
+/// The fastest run of each of `fs`, run in interleaved rounds: at least 3,
+/// until 0.4 s per function or 20 rounds. A load change on the machine then
+/// affects all of them alike, and their ratios stay meaningful.
 fn best_of_each(fs: &mut [&mut dyn FnMut()]) -> Vec<Duration> {
     fs.iter_mut().for_each(|f| f()); // warm-up
     let budget = Duration::from_millis(400) * fs.len() as u32;

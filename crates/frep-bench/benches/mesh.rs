@@ -2,37 +2,47 @@
 //! memory per model and depth, printed as a table (no criterion: one table is what we compare).
 //!
 //! Run: `scripts/bench-mesh.sh` (= `cargo bench -p frep-bench --features anchors --bench
-//! mesh`). `FREP_BENCH_REPS` (default 3) sets the repetitions; the minimum time is kept.
-//! `FREP_BENCH_DEPTHS` (default `6,7,8`) the depths, `FREP_BENCH_MODELS` a name filter (a part
-//! of the row's name, or `=name` for exactly that name: `=sphere` is the plain sphere alone).
-//! fidget meshes M1–M4 from the hand-written anchor trees (JIT, but the VM for M3, whose
-//! trigonometry the JIT calls lane by lane; see shared/notes/rendering-and-meshing.md) and the
-//! examples from `to_fidget`'s translation of the same tape (JIT), on the same box (the cube
-//! of the box's longest side around its centre, so the same cell size) and depth.
-//! Both use rayon's global pool (all cores of the machine).
+//! mesh`). Environment:
+//! - `FREP_BENCH_REPS` (default 3): the repetitions; the minimum time is kept.
+//! - `FREP_BENCH_DEPTHS` (default `6,7,8`): the depths.
+//! - `FREP_BENCH_MODELS`: a name filter, a part of the row's name. `=name` is exactly that
+//!   name: `=sphere` is the plain sphere alone.
 //!
-//! H: [`SurfaceSamples`]' symmetric Hausdorff estimate in cells (mesh points projected onto
-//! the surface by Newton steps, lowered to the nearest sign change along a fan of 256 rays
-//! where that is nearer; dense surface points, the lattice crossings at depth + 1, to
-//! the nearest triangle), points within one cell of the box faces left out (our caps lie on
-//! the box, fidget leaves the mesh open there).
+//! fidget meshes on the same box and at the same depth. The box is the cube of the model
+//! box's longest side around its centre, so the cell size is the same.
+//! - M1–M4 come from the hand-written anchor trees, on the JIT. M3 takes the VM, whose
+//!   trigonometry the JIT calls lane by lane (see shared/notes/rendering-and-meshing.md).
+//! - The examples come from `to_fidget`'s translation of the same tape (JIT).
+//! - Both use rayon's global pool (all cores of the machine).
 //!
-//! "adaptive dc": dual contouring with `MeshSettings::adaptive` = 0.1 cell (blocks of
-//! 2×2×2, 4×4×4, … cubes collapsed to one vertex where that keeps the topology and every
-//! crossing's tangent plane within 0.1 cell of the vertex).
+//! H: [`SurfaceSamples`]' symmetric Hausdorff estimate in cells.
+//! - Mesh points are projected onto the surface by Newton steps. The distance is lowered to
+//!   the nearest sign change along a fan of 256 rays where that is nearer.
+//! - Dense surface points (the lattice crossings at depth + 1) are measured to the nearest
+//!   triangle.
+//! - Points within one cell of the box faces are left out. Our caps lie on the box, and
+//!   fidget leaves the mesh open there.
 //!
-//! "reduced": our smallest mesh at fidget's error, in model units: watertight, dual
-//! contouring or adaptive dual contouring (the largest threshold of 0.8, 0.6, 0.4, 0.3, 0.2,
-//! 0.14, 0.1, 0.07, 0.05 cell of its own depth that meets it, labelled `adc7/0.2`) at the
-//! row's depth `d` or at `d − 1`, `d − 2` (a coarser mesh whose error is below fidget's at `d`
-//! is as good a mesh at that error), and only where none of those meets it, at `d + 1` (up to
-//! depth 8: a finer mesh, adaptively reduced, can still have fewer triangles);
-//! watertight and dual contouring also simplified (meshopt, verified closed / manifold /
-//! oriented / same components and genus, and for watertight free of self-intersections; see
-//! `simplify_verified`) with the largest bound of 0.5, 0.25, 0.12, 0.06, 0.03, 0.015 cell of
-//! depth `d` whose measured H is at most fidget's H (labelled `dc6+s0.12`). Every candidate
-//! is measured with the row's samples, H in cells of the row's depth;
-//! its time is the meshing plus the simplification. Memory: the peak of live heap bytes during
+//! "adaptive dc": dual contouring with `MeshSettings::adaptive` = 0.1 cell. Blocks of
+//! 2×2×2, 4×4×4, … cubes collapse to one vertex where that keeps the topology and every
+//! crossing's tangent plane within 0.1 cell of the vertex.
+//!
+//! "reduced": our smallest mesh at fidget's error, in model units. The candidates:
+//! - watertight, dual contouring or adaptive dual contouring, at the row's depth `d` or at
+//!   `d − 1`, `d − 2`. A coarser mesh whose error is below fidget's at `d` is as good a mesh
+//!   at that error.
+//! - Adaptive dual contouring takes the largest threshold of 0.8, 0.6, 0.4, 0.3, 0.2, 0.14,
+//!   0.1, 0.07, 0.05 cell of its own depth that meets it, labelled `adc7/0.2`.
+//! - Only where none of those meets it, the same at `d + 1`, up to depth 8. A finer mesh,
+//!   adaptively reduced, can still have fewer triangles.
+//! - Watertight and dual contouring also simplified with meshopt (labelled `dc6+s0.12`). The
+//!   bound is the largest of 0.5, 0.25, 0.12, 0.06, 0.03, 0.015 cell of depth `d` whose
+//!   measured H is at most fidget's H.
+//! - A simplified mesh is verified (see `simplify_verified`): closed, manifold, oriented, the
+//!   same components and genus, and for watertight free of self-intersections.
+//!
+//! Every candidate is measured with the row's samples, H in cells of the row's depth. Its
+//! time is the meshing plus the simplification. Memory: the peak of live heap bytes during
 //! the run (a counting global allocator), per output triangle.
 
 use frep_bench::alloc::{peak_during, Counting};
@@ -231,8 +241,8 @@ fn main() {
                 None => "– | – | – | –".into(),
             };
             // The smallest of our meshes at fidget's error: wt or dc at this depth or one or
-            // two coarser (equal error is about model units, not the depth), unsimplified or
-            // simplified with a verified bound; every candidate is measured with this row's
+            // two coarser, unsimplified or simplified with a verified bound. Equal error is
+            // about model units, not the depth. Every candidate is measured with this row's
             // samples, H in this row's cells.
             let target = fid.map_or(h_wt.max(h_dc), |f| f.2);
             let mut best: Option<(String, f64, usize, f64)> = None;
@@ -245,7 +255,7 @@ fn main() {
                     *best = Some((label, t, tris, hm));
                 }
             };
-            // Depths d, d − 1, d − 2; then, only where none of those meets fidget's error,
+            // Depths d, d − 1, d − 2. Then, only where none of those meets fidget's error,
             // d + 1 (at most 8): a finer mesh reduced adaptively can still have fewer
             // triangles.
             let mut levels: Vec<u8> = (d.saturating_sub(2).max(3)..=d).rev().collect();

@@ -1,8 +1,11 @@
 //! Times and sizes of frep-render's outputs (formerly `#[ignore]`d timing
-//! tests in frep-render): a 512² image encoded in each format, a 12-view
-//! 256² view set written in each format, and a 128³ volume sampled and
-//! written as slices. WebP rows appear only where frep-render is built with
-//! its `webp` feature (this crate builds it without).
+//! tests in frep-render):
+//! - a 512² image encoded in each format;
+//! - a 12-view 256² view set written in each format;
+//! - a 128³ volume sampled and written as slices.
+//!
+//! WebP rows appear only where frep-render is built with its `webp` feature.
+//! This crate builds it without.
 //!
 //! Run: `cargo bench -p frep-bench --bench output`.
 

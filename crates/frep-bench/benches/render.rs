@@ -1,32 +1,37 @@
 //! Render times of frep's ray caster (`frep_render::render`) on M1–M4 and
-//! every example, at 512² and 1024², with 2 threads and 1 thread, the peak
-//! heap beyond the image, and — with the `anchors` feature — fidget 0.5's 3D
-//! renderer (VM and JIT, heightmap + normals) in the same run: on M1–M4 from the
-//! hand-written anchor trees, on the other examples from `to_fidget`'s
+//! every example, at 512² and 1024², with 2 threads and 1 thread. Also the
+//! peak heap beyond the image.
+//!
+//! With the `anchors` feature, fidget 0.5's 3D renderer (VM and JIT,
+//! heightmap + normals) is timed in the same run. It renders M1–M4 from the
+//! hand-written anchor trees, the other examples from `to_fidget`'s
 //! translation of the same tape.
 //!
 //! Views:
 //! - `top`: orthographic, looking down −z over `[-1, 1]³` (M1–M4) or over the
-//!   cube of the example's box (longest side, around its centre), the square
-//!   filling the image. This is what fidget's voxel render does natively
-//!   (depth = image width voxels; for an example its tree is mapped from
-//!   `[-1, 1]³` onto the cube); ours renders the same view through an
+//!   cube of the example's box (longest side, around its centre). The square
+//!   fills the image. This is what fidget's voxel render does natively, with
+//!   depth = image width voxels. For an example, its tree is mapped from
+//!   `[-1, 1]³` onto the cube. Ours renders the same view through an
 //!   equivalent `Camera`, so the two columns compare like with like.
 //! - `turn`: our usual turntable view (perspective, fov 30°, yaw 30°, pitch
 //!   20°, framing the model box); ours only.
 //!
 //! `FREP_BENCH_STATS=1` also prints the caster's work counters per row.
 //!
-//! Each time is the minimum of at least `FREP_BENCH_REPS` runs (default 3;
-//! runs over 5 s are not repeated), repeated further until the runs took
-//! `FREP_BENCH_MIN_MS` in all (default 1000): ours and fidget's alike, so a
-//! fast render is sampled for as long as a slow one, which matters on a
-//! noisy machine (a short 2-thread render has fewer chances to run with
-//! both cores free). Our 2-thread top view and fidget's renders of the same
-//! row are measured in turns of about 50 ms each (`time_min_together`), not
-//! one after the other, so that a noisy stretch of the run falls to both
-//! sides of the ratio alike. fidget's interpreter on M4 and on the examples
-//! (R-functions: minutes, per the notes) is skipped unless `FREP_BENCH_SLOW=1`.
+//! Timing:
+//! - Each time is the minimum of at least `FREP_BENCH_REPS` runs (default 3;
+//!   runs over 5 s are not repeated).
+//! - Runs are repeated further until they took `FREP_BENCH_MIN_MS` in all
+//!   (default 1000), ours and fidget's alike. So a fast render is sampled for
+//!   as long as a slow one. That matters on a noisy machine: a short 2-thread
+//!   render has fewer chances to run with both cores free.
+//! - Our 2-thread top view and fidget's renders of the same row are measured
+//!   in turns of about 50 ms each (`time_min_together`), not one after the
+//!   other. A noisy stretch of the run then falls to both sides of the ratio
+//!   alike.
+//! - fidget's interpreter on M4 and on the examples is skipped unless
+//!   `FREP_BENCH_SLOW=1`. On R-functions it takes minutes, per the notes.
 //!
 //! Run: `scripts/bench-render.sh` (or `cargo bench -p frep-bench --features
 //! anchors --bench render`).
@@ -67,9 +72,9 @@ fn time_min<F: FnMut()>(mut f: F) -> Duration {
 const SLICE: Duration = Duration::from_millis(50);
 
 /// [`time_min`] of several measurements at once, taken in turns of about
-/// [`SLICE`] each (one run at least), so that each is sampled across the
-/// same stretch of time: on a noisy machine the quiet moments then fall to
-/// all of them alike, and their ratio does not depend on which came first.
+/// [`SLICE`] each (one run at least). Each is then sampled across the same
+/// stretch of time. On a noisy machine the quiet moments fall to all of them
+/// alike, and their ratio does not depend on which came first.
 /// A measurement stops after `reps()` runs once its runs took `min_ms()`
 /// in all, or after one run over 5 s; the others go on.
 fn time_min_together(fs: &mut [&mut dyn FnMut()]) -> Vec<Duration> {

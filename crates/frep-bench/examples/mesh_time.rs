@@ -1,8 +1,8 @@
 //! A quick meshing timer for profiling the polygonizer:
 //! `mesh_time [filter] [depth] [method] [threads] [reps]`, method `wt`, `dc` or `mc`.
-//! Meshes every example whose file name contains `filter` in the box of its `-- bounds:` line
-//! and prints the minimum time and the triangle count (run it under
-//! `valgrind --tool=callgrind` with 1 thread and 1 rep for instruction counts).
+//! Meshes every example whose file name contains `filter`, in the box of its `-- bounds:`
+//! line. Prints the minimum time and the triangle count. For instruction counts, run it under
+//! `valgrind --tool=callgrind` with 1 thread and 1 rep.
 
 use std::time::{Duration, Instant};
 

@@ -1,10 +1,12 @@
 //! A quick render timer for profiling the ray caster:
-//! `render_time [filter] [size] [view] [threads] [reps]`, view `top` (the
-//! render benchmark's orthographic top-down view, over `[-1, 1]³` for M1–M4 and
-//! the cube of the model's box otherwise) or `turn` (the perspective
-//! turntable of the model's own box). Prints the minimum time per example,
-//! and the caster's counters with `FREP_BENCH_STATS=1`. The caster's knobs
-//! and the tile size can be set for experiments: `FREP_STEP_PX`,
+//! `render_time [filter] [size] [view] [threads] [reps]`. The view is one of:
+//! - `top`: the render benchmark's orthographic top-down view, over
+//!   `[-1, 1]³` for M1–M4 and the cube of the model's box otherwise;
+//! - `turn`: the perspective turntable of the model's own box.
+//!
+//! Prints the minimum time per example, and the caster's counters with
+//! `FREP_BENCH_STATS=1`. The caster's knobs and the tile size can be set for
+//! experiments: `FREP_STEP_PX`,
 //! `FREP_LEAF_DEPTH_PX`, `FREP_NARROW_PX`, `FREP_PRUNE_AFTER`, `FREP_FALLBACK_DEPTH`,
 //! `FREP_TILE`.
 

@@ -1,12 +1,13 @@
 //! Benchmarks of frep, and the anchor implementations they are compared with.
 //!
-//! The benchmark models M1–M4 are defined once, in
-//! `shared/notes/rendering-and-meshing.md`; their HyperFun sources live in the
-//! workspace's `examples/` folder (`m1_sphere.hf` … `m4_rblend10.hf`), and
-//! the `anchors` module builds the same fields in fidget (behind the `anchors` feature,
-//! so that ordinary workspace builds do not compile fidget); `to_fidget`
-//! translates any compiled frep model into a fidget tree, so that the `core`
-//! benchmark can run the same evaluations in both.
+//! - The benchmark models M1–M4 are defined once, in
+//!   `shared/notes/rendering-and-meshing.md`.
+//! - Their HyperFun sources live in the workspace's `examples/` folder
+//!   (`m1_sphere.hf` … `m4_rblend10.hf`).
+//! - The `anchors` module builds the same fields in fidget. It is behind the
+//!   `anchors` feature, so that ordinary workspace builds do not compile fidget.
+//! - `to_fidget` translates any compiled frep model into a fidget tree. So the
+//!   `core` benchmark can run the same evaluations in both.
 
 #![warn(missing_docs)]
 
@@ -64,9 +65,9 @@ pub fn grid_boxes(n: usize) -> Vec<[[f32; 2]; 3]> {
 /// The workspace's `examples/` folder.
 pub const EXAMPLES_DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples");
 
-/// The example models (file name, source) whose file names contain `filter`
-/// (or, where `filter` starts with `=`, whose name is the rest, with or
-/// without `.hf`), sorted by name.
+/// The example models (file name, source) whose file names contain `filter`,
+/// sorted by name. Where `filter` starts with `=`, the name must be the rest,
+/// with or without `.hf`.
 pub fn example_sources(filter: &str) -> Vec<(String, String)> {
     let mut files: Vec<String> = std::fs::read_dir(EXAMPLES_DIR)
         .expect("the workspace's examples folder")

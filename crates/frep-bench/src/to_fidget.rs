@@ -3,10 +3,10 @@
 //!
 //! The tree is what a fidget user would write by hand for the same field:
 //! * **negated** — fidget's convention is negative inside, HyperFun's
-//!   positive inside; the negation is pushed into the expression where that is
-//!   free (`-(a - b)` is `b - a`, `-min(a, b)` is `max(-a, -b)`, `-(a | b)`
-//!   is the R-intersection of `-a` and `-b`, constants flip their sign), so
-//!   that the translated M1–M4 have the same operations as the hand-written
+//!   positive inside. The negation is pushed into the expression where that is
+//!   free: `-(a - b)` is `b - a`, `-min(a, b)` is `max(-a, -b)`, `-(a | b)`
+//!   is the R-intersection of `-a` and `-b`, constants flip their sign. So
+//!   the translated M1–M4 have the same operations as the hand-written
 //!   anchors of [`anchors`](crate::anchors);
 //! * R-functions expanded as `a + b ± sqrt(a² + b²)`, blends as
 //!   `r + a0 / (1 + (f1/a1)² + (f2/a2)²)`;
@@ -16,9 +16,10 @@
 //!   NaN;
 //! * comparisons, `and`, `or`, `not` and selects through fidget's `compare`,
 //!   `and`, `or` and `not`, with HyperFun's truth test `|v| >= 1e-6`;
-//! * sub-expressions that do not depend on the point (constants, parameters,
-//!   extra coordinates, all read as 0 like [`Inputs::default`](frep_core::Inputs))
-//!   folded in `f64` by frep's own scalar operations, then rounded to `f32`.
+//! * sub-expressions that do not depend on the point, folded in `f64` by
+//!   frep's own scalar operations, then rounded to `f32`. They are constants,
+//!   parameters and extra coordinates, all read as 0 like
+//!   [`Inputs::default`](frep_core::Inputs).
 //!
 //! fidget evaluates in `f32`, so values agree with frep's `f64` ones to about
 //! `1e-6` relative. Operations fidget cannot express give a
@@ -57,9 +58,9 @@ impl std::error::Error for TranslateError {}
 const POS: u8 = 1;
 const NEG: u8 = 2;
 
-/// `tree` seen through the map from fidget's `[-1, 1]³` onto the cube `(centre, half)`: x ↦
-/// centre + half·x on each axis (so fidget's native box covers that cube). The same tree
-/// when the cube is `[-1, 1]³`.
+/// `tree` seen through the map from fidget's `[-1, 1]³` onto the cube `(centre, half)`. The
+/// map is x ↦ centre + half·x on each axis, so fidget's native box covers that cube. The same
+/// tree when the cube is `[-1, 1]³`.
 pub fn in_cube(tree: &Tree, (c, half): ([f64; 3], f64)) -> Tree {
     if c == [0.0; 3] && half == 1.0 {
         return tree.clone();
