@@ -2,14 +2,16 @@
 //! `{key}.json` with its media type, compute time and (for slices) the byte
 //! mapping. Total size bounded; the least recently used go first.
 //!
-//! Writes go to a temporary file renamed into place (atomic on one file
-//! system): the metadata first, then the body, so a body on disk always has
-//! its metadata. The index (key → size, last use, metadata) lives in memory
-//! and is rebuilt from the folder at start, oldest modification first;
-//! leftover temporary files and bodies whose length disagrees with their
-//! metadata (a crash mid-write) are deleted then. Files are not synced: the
-//! cache acknowledges nothing to anyone (a lost file is computed again), and
-//! the length check catches a body the crash left short.
+//! - Writes go to a temporary file renamed into place (atomic on one file
+//!   system). The metadata goes first, then the body, so a body on disk
+//!   always has its metadata.
+//! - The index (key → size, last use, metadata) lives in memory. It is
+//!   rebuilt from the folder at start, oldest modification first.
+//! - At start, leftover temporary files are deleted, and so are bodies whose
+//!   length disagrees with their metadata (a crash mid-write).
+//! - Files are not synced. The cache acknowledges nothing to anyone: a lost
+//!   file is computed again. The length check catches a body the crash left
+//!   short.
 
 use std::collections::HashMap;
 use std::fs;

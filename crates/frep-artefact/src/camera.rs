@@ -15,14 +15,14 @@
 //! - perspective (`fov` = Some(φ) degrees, clamped to 0.001..179): φ spans
 //!   the image's **shorter** side. three.js's `PerspectiveCamera.fov` is
 //!   vertical: use φ when width ≥ height, else `2·atan(tan(φ/2)·h/w)`. Eye
-//!   `t + b · d` with `d = r / sin(φ/2) / zoom` (at zoom 1 the bounding
-//!   sphere exactly fills the shorter side);
+//!   `t + b · d` with `d = r / sin(φ/2) / zoom`. At zoom 1 the bounding
+//!   sphere exactly fills the shorter side;
 //! - orthographic (`fov` None): half the extent seen across the shorter
-//!   side is `r / zoom` (three.js `OrthographicCamera`: `top = r / zoom`,
+//!   side is `r / zoom`. In three.js's `OrthographicCamera`: `top = r / zoom`,
 //!   `right = top · w / h` when width ≥ height, else `right = r / zoom`,
-//!   `top = right · h / w`); rays start on the plane through
-//!   `t + b · (2r + |pan|)` facing `−b` (in front of the whole box wherever
-//!   it is panned to).
+//!   `top = right · h / w`. Rays start on the plane through
+//!   `t + b · (2r + |pan|)` facing `−b`. That is in front of the whole box,
+//!   wherever it is panned to.
 //!
 //! Pixel `(px, py)` has its centre at `(px + 0.5, py + 0.5)`, y down the
 //! image, as in frep-render's cameras.

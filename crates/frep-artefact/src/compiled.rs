@@ -1,25 +1,32 @@
-//! A model compiled once, with everything every artefact of it needs: the
-//! source, the body, the model box (and where it came from), the default
-//! parameters, and a content hash of the compiled graph.
+//! A model compiled once, with everything every artefact of it needs:
+//! - the source and the body;
+//! - the model box, and where it came from;
+//! - the default parameters;
+//! - a content hash of the compiled graph.
 //!
 //! The box follows the one rule of the command line
-//! ([`frep_mesh::poly::bounds::model_box`]): the source's `-- bounds:` line,
-//! else the solid's detected extent (at the default parameters, or those
-//! given to [`compile_with_params`]), else hfp's `[-10, 10]³`. It stays
-//! fixed while parameters change, so a dragged slider does not move the
-//! camera.
+//! ([`frep_mesh::poly::bounds::model_box`]):
+//! 1. the source's `-- bounds:` line;
+//! 2. else the solid's detected extent, at the default parameters or those
+//!    given to [`compile_with_params`];
+//! 3. else hfp's `[-10, 10]³`.
+//!
+//! It stays fixed while parameters change, so a dragged slider does not move
+//! the camera.
 //!
 //! Parameters: a comment line `-- param: <i> <name> <default> [<min> <max>]`
-//! among the heading comments names `a[i]` (`<i>` is `1` or `a[1]`) and
-//! gives its slider; without one, `a[i]` has default 0 and range
+//! among the heading comments names `a[i]` and gives its slider. `<i>` is `1`
+//! or `a[1]`. Without one, `a[i]` has default 0 and range
 //! `default ± max(1, |default|)`.
 //!
 //! The graph hash is BLAKE3 over the declared dimensions and the outputs of
-//! the value-and-attribute tape, each node hashed as a Merkle tree (its
-//! operation and constant bits, then its operands' hashes): sources that
-//! compile to the same expressions share it, whatever the order the
-//! compiler created the nodes in (comments, spacing, names, temporaries and
-//! folded constants do not count).
+//! the value-and-attribute tape.
+//! - Each node is hashed as a Merkle tree: its operation and constant bits,
+//!   then its operands' hashes.
+//! - Sources that compile to the same expressions share it, whatever the
+//!   order the compiler created the nodes in.
+//! - Comments, spacing, names, temporaries and folded constants do not
+//!   count.
 
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex, OnceLock};
@@ -190,9 +197,10 @@ impl Compiled {
 }
 
 /// Whether the ray caster solves the model in closed form (a set expression
-/// over quadrics): a 16² orthographic view cast with the ray caster, every
-/// ray settled exactly with no sample taken. frep-render keeps its set
-/// expression private, so this asks the caster what it did.
+/// over quadrics). A 16² orthographic view is cast with the ray caster. The
+/// answer is yes when every ray was settled exactly, with no sample taken.
+/// frep-render keeps its set expression private, so this asks the caster
+/// what it did.
 fn closed_form(model: &Model, inputs: &Inputs, bounds: Aabb) -> bool {
     if model.has_attributes {
         return false;
@@ -225,9 +233,10 @@ pub fn graph_hash(model: &Model) -> String {
         )
         .as_bytes(),
     );
-    // Each node's hash covers its operation (Debug with operand ids zeroed:
-    // the operation and constant bits) and its operands' hashes, so the
-    // order the compiler happened to create nodes in does not count.
+    // Each node's hash covers its operation and its operands' hashes. The
+    // operation is its Debug form with operand ids zeroed: the operation and
+    // constant bits. So the order the compiler happened to create nodes in
+    // does not count.
     let mut hashes: Vec<[u8; 32]> = Vec::with_capacity(tape.nodes.len());
     for n in &tape.nodes {
         let mut nh = blake3::Hasher::new();

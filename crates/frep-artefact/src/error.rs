@@ -1,6 +1,10 @@
-//! The errors of artefact work, one enum the server maps to HTTP statuses:
-//! unknown key → 404, limit → 413/422, busy → 503, cancelled → 499/503,
-//! model → 422, compute and I/O → 500.
+//! The errors of artefact work: one enum the server maps to HTTP statuses.
+//! - unknown key → 404;
+//! - limit → 413/422;
+//! - busy → 503;
+//! - cancelled → 499/503;
+//! - model → 422;
+//! - compute and I/O → 500.
 
 use frep_wire::Diagnostic;
 

@@ -1,18 +1,19 @@
-//! Jobs: one in-flight computation per key, shared by every request that
-//! waits for it (single flight), run on a bounded pool, cancelled when
-//! superseded or when its last waiter goes away.
+//! Jobs: one in-flight computation per key.
+//! - It is shared by every request that waits for it (single flight).
+//! - It runs on a bounded pool.
+//! - It is cancelled when superseded, or when its last waiter goes away.
 //!
 //! A [`Flight`] holds the job's [`Cancel`], its [`JobProgress`], the count
 //! of its waiters and a `watch` channel its outcome is published on. The
-//! service's map key → flight is locked for every join and leave, so a
-//! waiter never joins a flight its last waiter has just cancelled: the
+//! service's map key → flight is locked for every join and leave. So a
+//! waiter never joins a flight its last waiter has just cancelled. The
 //! leaving waiter removes the flight from the map in the same critical
 //! section, and the next request starts a fresh one.
 //!
-//! The pool: a `Semaphore` with one permit per worker; a flight's driver
-//! task waits for a permit (or its cancel, whichever comes first), then runs
-//! the computation with `spawn_blocking`. Flights not yet running are the
-//! queue, bounded by the service ([`crate::ArtefactError::Busy`]).
+//! The pool is a `Semaphore` with one permit per worker. A flight's driver
+//! task waits for a permit or its cancel, whichever comes first. Then it
+//! runs the computation with `spawn_blocking`. Flights not yet running are
+//! the queue, bounded by the service ([`crate::ArtefactError::Busy`]).
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Arc;

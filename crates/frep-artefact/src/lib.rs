@@ -1,13 +1,14 @@
 //! # frep-artefact
 //!
-//! What the server computes from a model — still images, view sets,
-//! meshes, slices, the generated shader, mesh exports — at content
-//! addresses, computed once on a bounded worker pool and cached on disk.
+//! What the server computes from a model: still images, view sets, meshes,
+//! slices, the generated shader, mesh exports. Each lives at a content
+//! address, is computed once on a bounded worker pool, and is cached on disk.
 //!
-//! - [`compiled`]: [`Compiled`], a model compiled once with its box
-//!   (`-- bounds:` line, else the detected extent, as the command line),
-//!   parameters, graph hash and [`CompileSummary`](frep_wire::CompileSummary);
-//!   [`CompileCache`] by source hash; diagnostics for the wire.
+//! - [`compiled`]: [`Compiled`], a model compiled once with its box,
+//!   parameters, graph hash and [`CompileSummary`](frep_wire::CompileSummary).
+//!   The box is the `-- bounds:` line, else the detected extent, as on the
+//!   command line. Also [`CompileCache`] by source hash, and diagnostics for
+//!   the wire.
 //! - [`mod@key`]: the content address of an artefact and its media type, file
 //!   extension and URL.
 //! - [`camera`]: the one camera convention of the server and the browser.

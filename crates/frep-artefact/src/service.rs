@@ -1,14 +1,16 @@
-//! The artefact service the server calls: register a request (its key and
-//! URL at once), get the body (from the disk cache, or by joining or
-//! starting the single job computing it), follow progress.
+//! The artefact service the server calls:
+//! - register a request, getting its key and URL at once;
+//! - get the body, from the disk cache, or by joining or starting the single
+//!   job computing it;
+//! - follow progress.
 //!
 //! `request` registers the recipe (compiled model, parameter values, spec)
-//! under its key, so a later `GET` of the URL can compute it; recipes are
-//! bounded ([`ArtefactConfig::max_recipes`]), the least recently
-//! registered forgotten first. A request with a [`SupersedeGroup`] cancels
-//! the group's previous job when it is for another key and still running.
+//! under its key, so a later `GET` of the URL can compute it. Recipes are
+//! bounded ([`ArtefactConfig::max_recipes`]), the least recently registered
+//! forgotten first. A request with a [`SupersedeGroup`] cancels the group's
+//! previous job when it is for another key and still running.
 //!
-//! `get` is cancel-safe: dropping its future (the HTTP client went away)
+//! `get` is cancel-safe. Dropping its future (the HTTP client went away)
 //! leaves the flight; the last to leave cancels the job.
 
 use std::collections::{HashMap, VecDeque};
@@ -391,10 +393,13 @@ async fn drive(inner: Arc<Inner>, key: String, recipe: Recipe, flight: Arc<Fligh
     }
 }
 
-/// The blocking part of a job: compute, publish at once (waiters are served
-/// before the disk write), then write the cache; the flight stays in the
-/// map until the write is done, so a request meanwhile joins it instead of
-/// missing both.
+/// The blocking part of a job:
+/// 1. compute;
+/// 2. publish at once, so waiters are served before the disk write;
+/// 3. write the cache.
+///
+/// The flight stays in the map until the write is done. So a request
+/// meanwhile joins it instead of missing both.
 fn run(inner: &Inner, key: &str, recipe: &Recipe, flight: &Flight) -> Outcome {
     inner.computations.fetch_add(1, Ordering::Relaxed);
     let start = Instant::now();

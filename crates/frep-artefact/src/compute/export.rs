@@ -1,6 +1,6 @@
 //! Downloads: the mesh in STL (binary), OBJ, PLY (binary, with vertex
-//! colours), glb (meshopt) or 3MF; the same polygonizer run as the viewer's
-//! mesh ([`super::mesh::mesh`]), another writer.
+//! colours), glb (meshopt) or 3MF. The polygonizer runs as for the viewer's
+//! mesh ([`super::mesh::mesh`]); only the writer differs.
 
 use frep_core::Inputs;
 use frep_wire::ExportFormat;

@@ -1,8 +1,8 @@
-//! Meshes: the polygonizer (watertight marching cubes on the pruned octree,
-//! colours from the attributes) at `2^depth` cells along the box's longest
-//! side, written by frep-mesh's exporter; the calls `frep mesh` makes. The
-//! viewer's mesh is the quantized, meshopt-compressed glb three.js loads
-//! with `MeshoptDecoder`.
+//! Meshes: the polygonizer at `2^depth` cells along the box's longest side,
+//! written by frep-mesh's exporter. It runs watertight marching cubes on the
+//! pruned octree, with colours from the attributes. These are the calls
+//! `frep mesh` makes. The viewer's mesh is the quantized, meshopt-compressed
+//! glb three.js loads with `MeshoptDecoder`.
 
 use frep_core::Inputs;
 use frep_mesh::{export, polygonize, Format, Limits, MeshSettings, Method, Resolution};

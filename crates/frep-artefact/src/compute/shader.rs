@@ -1,6 +1,6 @@
-//! The generated WebGL2 ray-casting shader of a model (frep-glsl's
-//! `shader_for_model`, as `frep glsl` calls it) with its uniform table:
-//! every constant and parameter a uniform, so a parameter change needs no
+//! The generated WebGL2 ray-casting shader of a model, with its uniform
+//! table. It is frep-glsl's `shader_for_model`, as `frep glsl` calls it.
+//! Every constant and parameter is a uniform, so a parameter change needs no
 //! new shader, only `u_params`.
 
 use frep_core::Inputs;

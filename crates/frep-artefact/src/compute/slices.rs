@@ -1,10 +1,13 @@
 //! Slices: the field sampled at voxel centres of an `n³` grid over the
-//! model box (frep-render's `sample_grid`, rows of a slice evaluated as
-//! lines along x as `frep slices` does), mapped to bytes
-//! `128 + 127 · f / scale` (clamped to 1..=255, 0 where the model failed)
-//! with frep-render's automatic scale (a band of 4 voxels each side of the
-//! surface). The body is the raw volume, x fastest, then y, then z: a
-//! WebGL2 `R8` 3D texture as is.
+//! model box.
+//! - Sampling is frep-render's `sample_grid`, as `frep slices` does it. The
+//!   rows of a slice are evaluated as lines along x.
+//! - Values map to bytes `128 + 127 · f / scale`, clamped to 1..=255, and 0
+//!   where the model failed.
+//! - The scale is frep-render's automatic one: a band of 4 voxels each side
+//!   of the surface.
+//! - The body is the raw volume, x fastest, then y, then z. It is a WebGL2
+//!   `R8` 3D texture as is.
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 
