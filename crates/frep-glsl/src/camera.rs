@@ -66,10 +66,10 @@ impl Camera {
     /// The inverse of projection × view, column-major (as
     /// `gl.uniformMatrix4fv` takes it), for a viewport of this aspect
     /// (width / height). It maps normalized device coordinates to world
-    /// space; the shader unprojects `z = -1` (the ray's origin on the near
-    /// plane) and `z = 0` (for its direction; the far point `z = 1` would
-    /// lose all precision in f32 when far/near is large). The near plane
-    /// is at a tenth of the eye–target distance, the far plane at ten times.
+    /// space. The shader unprojects `z = -1`, the ray's origin on the near
+    /// plane, and `z = 0` for its direction. The far point `z = 1` would
+    /// lose all precision in f32 when far/near is large. The near plane is
+    /// at a tenth of the eye–target distance, the far plane at ten times.
     pub fn inv_view_proj(&self, aspect: f64) -> [f32; 16] {
         let f = normalize(sub(self.target, self.eye));
         let dist = {

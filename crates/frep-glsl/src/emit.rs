@@ -358,9 +358,9 @@ pub(crate) fn attrs_function(
     n
 }
 
-/// `hf_pwK(float)` and `hf_pwK(vec2)` (componentwise `b^K` by repeated
-/// squaring, written out: no loop) for every exponent `K` the `PowI` nodes
-/// of `live` need (`|n|`, and `|n - 1|` for the derivative).
+/// `hf_pwK(float)` and `hf_pwK(vec2)` for every exponent `K` the `PowI`
+/// nodes of `live` need: `|n|`, and `|n - 1|` for the derivative. Each is
+/// componentwise `b^K` by repeated squaring, written out with no loop.
 pub(crate) fn power_functions(out: &mut String, tape: &Tape, live: &[bool]) {
     let mut ks = std::collections::BTreeSet::new();
     for (i, n) in tape.nodes.iter().enumerate() {

@@ -1,21 +1,23 @@
 //! Rust mirrors, in `f32`, of the generated shader's numerically delicate
-//! helpers (`hf_ru`, `hf_ri`, `hf_rd`, `hf_mod`), line for line, so that
-//! their accuracy can be unit-tested against the `f64` semantics of
+//! helpers (`hf_ru`, `hf_ri`, `hf_rd`, `hf_mod`), line for line. Their
+//! accuracy can then be unit-tested against the `f64` semantics of
 //! [`frep_core::ops`].
 //!
 //! ## The stable R-function forms
-//! The reference R-union `u = a + b + √(a² + b²)` cancels catastrophically
-//! in f32 where `a + b < 0` (the result is tiny next to `|a|`, e.g. the
-//! union of two strongly negative fields, or `|a| ≫ |b|` with `a < 0`).
-//! There `(a + b + s)(a + b − s) = 2ab` gives the cancellation-free
-//! `u = 2ab / (a + b − √(a² + b²))` (the denominator is `< 0`). Where
-//! `a + b ≥ 0` the direct sum has no cancellation. Both branches are
-//! symmetric in `a, b`. The intersection and difference reuse it:
-//! `a + b − √(a²+b²) = −u(−a, −b)` and `a − b − √(a²+b²) = −u(−a, b)`.
-//! Operands beyond `1e18` are scaled by `max(|a|, |b|)` so `a²` cannot
-//! overflow; at infinities the limits are returned (`u(+∞, b) = +∞`,
-//! `u(−∞, b) = b`), which the interval flavour relies on for unbounded
-//! intervals.
+//! - The reference R-union `u = a + b + √(a² + b²)` cancels catastrophically
+//!   in f32 where `a + b < 0`. The result is then tiny next to `|a|`: the
+//!   union of two strongly negative fields, or `|a| ≫ |b|` with `a < 0`.
+//! - There `(a + b + s)(a + b − s) = 2ab` gives the cancellation-free
+//!   `u = 2ab / (a + b − √(a² + b²))`. The denominator is `< 0`.
+//! - Where `a + b ≥ 0` the direct sum has no cancellation.
+//! - Both branches are symmetric in `a, b`.
+//! - The intersection and difference reuse it:
+//!   `a + b − √(a²+b²) = −u(−a, −b)` and `a − b − √(a²+b²) = −u(−a, b)`.
+//! - Operands beyond `1e18` are scaled by `max(|a|, |b|)`, so `a²` cannot
+//!   overflow.
+//! - At infinities the limits are returned: `u(+∞, b) = +∞`,
+//!   `u(−∞, b) = b`. The interval flavour relies on them for unbounded
+//!   intervals.
 
 /// The shader's `hf_ru`: stable R-union.
 pub fn r_union(a: f32, b: f32) -> f32 {
@@ -185,8 +187,8 @@ mod tests {
 
     #[test]
     fn r_functions_are_monotone() {
-        // The interval rule [u(lo, lo), u(hi, hi)] needs monotonicity of the
-        // f32 formula itself (across the branch switch at a + b = 0 too).
+        // The interval rule [u(lo, lo), u(hi, hi)] needs the f32 formula
+        // itself to be monotone, across the branch switch at a + b = 0 too.
         let xs: Vec<f32> = (-200..=200).map(|i| i as f32 * 0.05).collect();
         for &b in &[-3.0f32, -0.5, 0.0, 0.25, 2.0] {
             for w in xs.windows(2) {

@@ -6,61 +6,69 @@
 //! ## What is generated
 //! * `float field(vec3 p)` — the point value (`f >= 0` inside);
 //! * `vec2 field_iv(vec2 x, vec2 y, vec2 z)` — bounds `[lo, hi]` of the field
-//!   over a box, with tight rules per operation (R-functions and blends
-//!   by monotonicity, `sin`/`cos` by their extrema, even powers, `abs`,
-//!   products of four corners, comparisons `[0, 1]` when undecided, selects
-//!   decided or hulled). Intervals never hold NaN: where an operation may
-//!   fail (a checked division whose divisor meets `|b| < 1e-6`, `sqrt` of a
-//!   range reaching below 0, ...) the bound is `[-inf, +inf]`, which stays
-//!   sound downstream of `min`, `max` and selects. Bounds are computed in
-//!   f32 without outward rounding (pruning may be off by an ulp; the final
-//!   point bisection decides the hit);
+//!   over a box, with tight rules per operation. R-functions and blends go
+//!   by monotonicity, `sin`/`cos` by their extrema. Even powers and `abs`
+//!   have their own rules, products take four corners, comparisons give
+//!   `[0, 1]` when undecided, and selects are decided or hulled.
+//!   - Intervals never hold NaN. Where an operation may fail, the bound is
+//!     `[-inf, +inf]`, which stays sound downstream of `min`, `max` and
+//!     selects. Examples: a checked division whose divisor meets
+//!     `|b| < 1e-6`, or `sqrt` of a range reaching below 0.
+//!   - Bounds are computed in f32 without outward rounding. Pruning may be
+//!     off by an ulp; the final point bisection decides the hit;
 //! * `vec4 field_grad(vec3 p)` — value and gradient by forward-mode dual
 //!   numbers (one call site in the shader);
 //! * `vec3 attrs(vec3 p)` — the attributes `s[1..3]` when the tape has at
 //!   least four outputs (value, s1, s2, s3).
 //!
 //! ## Rules for software WebGL (SwiftShader)
-//! SwiftShader compiles at the first draw and inlines every call: the
-//! helpers of the prelude are branch-free and loop-free (selects through
-//! `mix` with a bool, one `return`; integer powers `x ^ n` through generated
-//! straight-line `hf_pwK` squarings), and the ray caster calls each field
-//! function from exactly one place, in one loop bounded by a uniform, with
-//! no stack array (an implicit binary tree of ray segments). With branchy
-//! helpers, the first frame of a chain of nine R-unions (129 nodes) took
-//! more than a minute; now 0.7 s at 64² (`tests/browser.rs` measures it).
+//! SwiftShader compiles at the first draw and inlines every call. So:
+//! - the helpers of the prelude are branch-free and loop-free. Selects go
+//!   through `mix` with a bool, with one `return`. Integer powers `x ^ n` go
+//!   through generated straight-line `hf_pwK` squarings.
+//! - the ray caster calls each field function from exactly one place, in one
+//!   loop bounded by a uniform. It uses no stack array, but an implicit
+//!   binary tree of ray segments.
 //!
-//! Each is straight-line SSA: one statement per live tape node
-//! (`float t12 = t3 + t7;`), operands always temporaries, so nesting depth is
-//! bounded by a small constant whatever the model (ANGLE rejects expressions
-//! nested past ~250). Shared subexpressions (the tape is hash-consed) are
+//! With branchy helpers, the first frame of a chain of nine R-unions (129
+//! nodes) took more than a minute. It now takes 0.7 s at 64²
+//! (`tests/browser.rs` measures it).
+//!
+//! Each function is straight-line SSA: one statement per live tape node
+//! (`float t12 = t3 + t7;`), operands always temporaries. So nesting depth is
+//! bounded by a small constant whatever the model; ANGLE rejects expressions
+//! nested past ~250. Shared subexpressions (the tape is hash-consed) are
 //! computed once. Generation is linear in the tape length.
 //!
 //! ## Semantics
-//! Point values follow [`frep_core::ops`] in f32: runtime errors of the
-//! reference interpreter become NaN (checked division `|b| < 1e-6`,
-//! HyperFun's `^`, `sqrt`/`log` domains, [`Node::Error`]),
-//! `Check(g, v)` is `v`, truth is `|v| >= 1e-6`, comparisons are 1.0/0.0,
-//! `min`/`max` are `a < b ? a : b` / `a > b ? a : b`, `mod` is C `fmod` of
-//! the half-up rounded operands (GLSL `mod` is floor-based), `int` truncates.
-//! R-functions use a cancellation-free form (see [`f32ref`]).
+//! Point values follow [`frep_core::ops`] in f32:
+//! - runtime errors of the reference interpreter become NaN: checked
+//!   division `|b| < 1e-6`, HyperFun's `^`, `sqrt`/`log` domains,
+//!   [`Node::Error`];
+//! - `Check(g, v)` is `v`, truth is `|v| >= 1e-6`, comparisons are 1.0/0.0;
+//! - `min`/`max` are `a < b ? a : b` / `a > b ? a : b`;
+//! - `mod` is C `fmod` of the half-up rounded operands (GLSL `mod` is
+//!   floor-based), `int` truncates;
+//! - R-functions use a cancellation-free form (see [`f32ref`]).
 //!
 //! ## Uniforms (editing a number never recompiles)
 //! * `uniform float u_params[N]` — the model parameters `a[1..N]`;
 //! * `uniform vec4 u_consts[K]` — **every** constant of the tape, packed four
-//!   to a `vec4` (constant `j` is `u_consts[j / 4]` component `j % 4`), so
-//!   that a model of a thousand primitives fits WebGL's uniform-vector limit
-//!   (a `float[]` uses a whole vector per element on many implementations).
-//!   The rule is simply "every `Const` node of the tape": 0 and 1 included.
-//!   What is *not* a uniform is structural: the integer exponent of
-//!   `x ^ n` (a [`Node::PowI`], e.g. `x^2`), the
-//!   `1e-6` tolerance, and the literals of the helpers. Changing such a
-//!   number, or any edit after which constant folding gives a different
-//!   tape structure, changes the source: a client should regenerate the
-//!   shader after every edit and recompile only when [`Shader::source`]
-//!   differs, otherwise just upload the new uniform values.
-//!   Above [`ShaderOptions::max_uniform_consts`] constants, every constant
-//!   is inlined as a literal instead ([`ShaderStats::consts_inlined`]).
+//!   to a `vec4`: constant `j` is `u_consts[j / 4]` component `j % 4`.
+//!   - The packing lets a model of a thousand primitives fit WebGL's
+//!     uniform-vector limit. A `float[]` uses a whole vector per element on
+//!     many implementations.
+//!   - The rule is simply "every `Const` node of the tape": 0 and 1 included.
+//!   - What is *not* a uniform is structural: the integer exponent of
+//!     `x ^ n` (a [`Node::PowI`], e.g. `x^2`), the `1e-6` tolerance, and the
+//!     literals of the helpers.
+//!   - Changing such a number changes the source. So does any edit after
+//!     which constant folding gives a different tape structure.
+//!   - So a client should regenerate the shader after every edit. It
+//!     recompiles only when [`Shader::source`] differs, and otherwise just
+//!     uploads the new uniform values.
+//!   - Above [`ShaderOptions::max_uniform_consts`] constants, every constant
+//!     is inlined as a literal instead ([`ShaderStats::consts_inlined`]).
 //! * `uniform float u_xextra[K]` — coordinate slots `x[4]...` (models
 //!   declaring `x[4]` or more);
 //! * the ray caster's: `u_resolution`, `u_inv_view_proj` (column-major; see
@@ -176,10 +184,11 @@ impl Default for ShaderOptions {
     }
 }
 
-/// The field functions of `tape` (`field`, `field_iv`, `field_grad`, and
-/// `attrs` when the tape has at least four outputs) with the helper prelude
-/// and the model's uniform declarations, without `#version` or `main`: for a
-/// client that brings its own renderer. `tape.outputs[0]` is the value.
+/// The field functions of `tape`, with the helper prelude and the model's
+/// uniform declarations, for a client that brings its own renderer. They are
+/// `field`, `field_iv`, `field_grad`, and `attrs` when the tape has at least
+/// four outputs. There is no `#version` or `main`. `tape.outputs[0]` is the
+/// value.
 pub fn field_library(tape: &Tape, opts: &ShaderOptions) -> Shader {
     assert!(!tape.outputs.is_empty(), "the tape has no output");
     let attr_outs =
@@ -267,8 +276,8 @@ pub fn field_library(tape: &Tape, opts: &ShaderOptions) -> Shader {
 }
 
 /// A complete GLSL ES 3.00 fragment shader ray casting `tape` (see the crate
-/// docs); draw it with [`vertex_shader`] as one full-screen triangle
-/// (`gl.drawArrays(gl.TRIANGLES, 0, 3)`, no attributes).
+/// docs). Draw it with [`vertex_shader`] as one full-screen triangle:
+/// `gl.drawArrays(gl.TRIANGLES, 0, 3)`, no attributes.
 pub fn fragment_shader(tape: &Tape, opts: &ShaderOptions) -> Shader {
     let lib = field_library(tape, opts);
     let mut src = String::with_capacity(lib.source.len() + RAYCAST.len() + 512);
@@ -346,9 +355,9 @@ pub fn vertex_shader() -> &'static str {
     "#version 300 es\nvoid main() {\n  vec2 p = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));\n  gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);\n}\n"
 }
 
-/// The ray-casting fragment shader of a compiled model: its value and, when
-/// the body declares `s[]` with at least three items, the attributes
-/// `s[1..3]` as colour; `u_params` sized to the model's `a[]`.
+/// The ray-casting fragment shader of a compiled model. It casts the value.
+/// When the body declares `s[]` with at least three items, the attributes
+/// `s[1..3]` give the colour. `u_params` is sized to the model's `a[]`.
 pub fn shader_for_model(model: &Model, opts: &ShaderOptions) -> Shader {
     let tape = model.tape_with_attributes();
     let mut opts = opts.clone();
