@@ -1,11 +1,12 @@
 //! Line diff of two sources, with line numbers on both sides.
 //!
 //! Algorithm: `similar`'s Myers diff over lines (`TextDiff::from_lines`),
-//! with a deadline: past it the diff stays correct (applying it still turns
-//! one text into the other) but may be longer than minimal, so a huge
-//! pathological pair cannot hold a store call for long. Every line of both
-//! texts appears once, in order: `same` lines carry both line numbers,
-//! `removed` only the old one, `added` only the new one.
+//! with a deadline. Past it the diff stays correct: applying it still turns
+//! one text into the other. But it may be longer than minimal. So a huge
+//! pathological pair cannot hold a store call for long.
+//!
+//! Every line of both texts appears once, in order. `same` lines carry both
+//! line numbers, `removed` only the old one, `added` only the new one.
 
 use std::time::Duration;
 

@@ -14,9 +14,9 @@
 //! | [`StoreError::Closed`] | a call after [`crate::Store::close`] | 503 / 500 |
 //! | [`StoreError::Db`] | SQLite itself failed (disk full, I/O error, corruption) | 500 |
 //!
-//! A write that returns `Ok` has been committed (and, for the SQLite store
-//! with `synchronous=FULL`, synced to disk); a write that returns `Err`
-//! changed nothing.
+//! A write that returns `Ok` has been committed. For the SQLite store with
+//! `synchronous=FULL`, it has also been synced to disk. A write that returns
+//! `Err` changed nothing.
 
 /// Why a store call failed.
 #[derive(Debug, thiserror::Error)]

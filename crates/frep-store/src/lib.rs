@@ -1,10 +1,13 @@
 //! # frep-store
 //!
-//! The master copy of frep's models: models (name, owner, creation time),
-//! every save as a new immutable version (HyperFun source, parameter values,
-//! author, time, message, referenced assets), an ordered change log per
-//! model that clients follow by sequence number, content-addressed assets
-//! (BLAKE3), and a small access list (owner plus granted editors).
+//! The master copy of frep's models:
+//! - models (name, owner, creation time);
+//! - every save as a new immutable version (HyperFun source, parameter
+//!   values, author, time, message, referenced assets);
+//! - an ordered change log per model, which clients follow by sequence
+//!   number;
+//! - content-addressed assets (BLAKE3);
+//! - a small access list (owner plus granted editors).
 //!
 //! Everything is behind the synchronous [`Store`] trait so that a PostgreSQL
 //! store can follow for scale-out. The server calls it on tokio's blocking
@@ -12,31 +15,34 @@
 //!
 //! ## The SQLite store
 //!
-//! [`SqliteStore`] uses `rusqlite` with SQLite bundled: synchronous (no
-//! async runtime needed inside the store), no system library to match, and
-//! no database needed at compile time. The file is opened in WAL mode with
-//! `synchronous=FULL`, so a write is acknowledged only once its commit is
-//! on disk; `foreign_keys=ON`; a busy timeout for other processes.
-//! Migrations are the numbered SQL files of `migrations/`, embedded in the
-//! binary, applied in order in one transaction and recorded in
-//! `PRAGMA user_version`; a database newer than the code is refused.
+//! [`SqliteStore`] uses `rusqlite` with SQLite bundled. It is synchronous,
+//! so no async runtime is needed inside the store. There is no system
+//! library to match, and no database is needed at compile time.
+//! - The file is opened in WAL mode with `synchronous=FULL`, so a write is
+//!   acknowledged only once its commit is on disk.
+//! - `foreign_keys=ON`, and a busy timeout for other processes.
+//! - Migrations are the numbered SQL files of `migrations/`, embedded in the
+//!   binary. They are applied in order in one transaction and recorded in
+//!   `PRAGMA user_version`. A database newer than the code is refused.
 //!
 //! ## Invariants
 //!
-//! - Versions are numbered 1, 2, 3, … per model without gaps; a number is
+//! - Versions are numbered 1, 2, 3, … per model without gaps. A number is
 //!   assigned inside the writing transaction (`PRIMARY KEY (model, number)`),
 //!   so two concurrent saves can never both become version N.
 //! - Every change (create, save, restore, rename, delete) appends one entry
 //!   to the model's log in the same transaction, `seq` 1, 2, 3, … without
-//!   gaps; the log is never rewritten, and stays readable after a delete.
+//!   gaps. The log is never rewritten, and stays readable after a delete.
 //! - A save with a `base` that is not the latest is refused with
 //!   [`StoreError::Conflict`]: no blind overwrites.
 //! - Deleting is soft: a deleted model is not listed and not gettable
 //!   ([`StoreError::NotFound`]), but its log remains.
 //!
-//! Access policy (enforced by the server; the store answers
-//! [`Store::may_edit`]): anyone may read; the owner and granted editors may
-//! write; only the owner changes the access list.
+//! Access policy, enforced by the server (the store answers
+//! [`Store::may_edit`]):
+//! - anyone may read;
+//! - the owner and granted editors may write;
+//! - only the owner changes the access list.
 #![warn(missing_docs)]
 
 mod diff;

@@ -1,9 +1,11 @@
 //! The access list: a model's owner plus the editors the owner granted.
 //!
-//! Policy (the server enforces writes; the store answers): anyone may read;
-//! the owner and granted editors may write; only the owner grants and
-//! revokes, and the owner's own right cannot be revoked. A deleted model
-//! has no editors (`NotFound`).
+//! Policy (the server enforces writes; the store answers):
+//! - anyone may read;
+//! - the owner and granted editors may write;
+//! - only the owner grants and revokes, and the owner's own right cannot be
+//!   revoked;
+//! - a deleted model has no editors (`NotFound`).
 
 use rusqlite::{params, Transaction};
 

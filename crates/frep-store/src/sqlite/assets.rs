@@ -1,8 +1,8 @@
 //! Content-addressed assets.
 //!
-//! Algorithm: the key is the BLAKE3 hash of the bytes (hex), so storing the
+//! Algorithm: the key is the BLAKE3 hash of the bytes (hex). So storing the
 //! same content twice finds the first row (`INSERT … ON CONFLICT DO
-//! NOTHING`) and keeps one copy; the media type of the first upload stays.
+//! NOTHING`) and keeps one copy. The media type of the first upload stays.
 //! Assets are never deleted: versions are immutable, and every version that
 //! refers to one must stay loadable.
 

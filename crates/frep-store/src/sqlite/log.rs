@@ -1,10 +1,11 @@
 //! The change log: one ordered list of entries per model.
 //!
 //! Algorithm: an entry's `seq` is the model's `last_seq + 1`, read and
-//! bumped in the writing transaction, so a model's log is 1, 2, 3, …
-//! without gaps (`UNIQUE (model_id, seq)` guards it against any other
-//! writer). `global_seq` is the table's AUTOINCREMENT key: increasing in
-//! commit order across models (the writer is serialized), never reused.
+//! bumped in the writing transaction. So a model's log is 1, 2, 3, …
+//! without gaps. `UNIQUE (model_id, seq)` guards it against any other
+//! writer. `global_seq` is the table's AUTOINCREMENT key. It increases in
+//! commit order across models (the writer is serialized), and is never
+//! reused.
 
 use frep_wire::{Change, ChangeKind};
 use rusqlite::{params, OptionalExtension, Row, Transaction};

@@ -1,16 +1,20 @@
 //! Schema migrations: the numbered SQL files of `migrations/`, embedded.
 //!
-//! Algorithm: in one `IMMEDIATE` transaction (so two processes opening the
-//! same new file cannot both migrate), read `PRAGMA user_version`; refuse a
-//! database newer than the newest migration here; run every migration
-//! numbered above it, in order, and set `user_version` to the last one. The
-//! pragma lives in the database header, which is part of the transaction:
-//! either every pending migration is applied and recorded, or none is.
+//! Algorithm, in one `IMMEDIATE` transaction (so two processes opening the
+//! same new file cannot both migrate):
+//! 1. read `PRAGMA user_version`;
+//! 2. refuse a database newer than the newest migration here;
+//! 3. run every migration numbered above it, in order;
+//! 4. set `user_version` to the last one.
 //!
-//! Foreign keys are off while migrations run (a table rebuild drops and
-//! renames tables, which checks of each step would refuse), and
-//! `PRAGMA foreign_key_check` must find nothing before the commit; they
-//! are on again afterwards, whatever happened. This is the procedure of
+//! The pragma lives in the database header, which is part of the
+//! transaction. So either every pending migration is applied and recorded,
+//! or none is.
+//!
+//! Foreign keys are off while migrations run. A table rebuild drops and
+//! renames tables, which checks of each step would refuse.
+//! `PRAGMA foreign_key_check` must find nothing before the commit. Foreign
+//! keys are on again afterwards, whatever happened. This is the procedure of
 //! SQLite's ALTER TABLE documentation.
 
 use rusqlite::{Connection, OptionalExtension, TransactionBehavior};

@@ -1,14 +1,16 @@
 //! The SQLite store: connections, transactions, and the [`Store`] impl.
 //!
-//! Connections: one writer connection behind a mutex, so writes are
-//! serialized in this process and each runs in one `IMMEDIATE` transaction
-//! (the version number and log seq are read and assigned inside it). Reads
-//! of a file database use a small pool of separate read connections: in WAL
-//! mode readers see the last committed snapshot and never wait for a writer
-//! that is syncing its commit (with `synchronous=FULL` a commit waits for
-//! the disk), so listing and loading stay fast while someone saves. An
-//! in-memory database is private to its connection, so there every call
-//! uses the writer connection.
+//! Connections:
+//! - One writer connection sits behind a mutex, so writes are serialized in
+//!   this process. Each runs in one `IMMEDIATE` transaction; the version
+//!   number and log seq are read and assigned inside it.
+//! - Reads of a file database use a small pool of separate read
+//!   connections. In WAL mode readers see the last committed snapshot. They
+//!   never wait for a writer that is syncing its commit (with
+//!   `synchronous=FULL` a commit waits for the disk). So listing and loading
+//!   stay fast while someone saves.
+//! - An in-memory database is private to its connection, so there every
+//!   call uses the writer connection.
 //!
 //! Every read runs in one (deferred) transaction, so a call that reads
 //! several tables sees one consistent snapshot.
@@ -126,8 +128,8 @@ impl SqliteStore {
             Some(c) => c,
             None => open_reader(&readers.path, &self.limits)?,
         };
-        // Dropping the read transaction ends it (a rollback: nothing to
-        // keep); the connection goes back to the pool even after an error
+        // Dropping the read transaction ends it: a rollback, with nothing to
+        // keep. The connection goes back to the pool even after an error
         // such as NotFound, which followers polling a log meet often.
         let value = conn
             .transaction()
@@ -184,8 +186,8 @@ fn open_reader(path: &Path, limits: &StoreLimits) -> Result<Connection> {
     Ok(conn)
 }
 
-/// Locks a mutex; a poisoned one is still consistent here (a panic inside a
-/// transaction rolled it back when the transaction dropped), so use it.
+/// Locks a mutex. A poisoned one is still consistent here, so use it: a
+/// panic inside a transaction rolled it back when the transaction dropped.
 fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
     m.lock().unwrap_or_else(|p| p.into_inner())
 }

@@ -1,9 +1,9 @@
 //! Models: create, list, load, rename, duplicate, soft delete.
 //!
 //! A model row holds its name, owner, times, the number of its latest
-//! version and the seq of its latest log entry (both bumped inside the
-//! writing transaction). Ids are 128 random bits from SQLite's own
-//! generator (`randomblob`), as 32 lowercase hex digits: opaque, and
+//! version and the seq of its latest log entry. Both are bumped inside the
+//! writing transaction. Ids are 128 random bits from SQLite's own generator
+//! (`randomblob`), as 32 lowercase hex digits. They are opaque, and
 //! unguessable enough that ids of models one may not see do not leak by
 //! counting.
 

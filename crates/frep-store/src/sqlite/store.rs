@@ -1,6 +1,6 @@
-//! [`Store`] for [`SqliteStore`]: each method is one transaction, a write
-//! on the writer connection, a read on a read connection (see the module
-//! above), delegating to the module of its table.
+//! [`Store`] for [`SqliteStore`]. Each method is one transaction, and
+//! delegates to the module of its table. A write runs on the writer
+//! connection, a read on a read connection (see the module above).
 
 use frep_wire::{
     Change, CreateModel, ModelDetail, ModelSummary, SourceDiff, Version, VersionSummary,

@@ -1,16 +1,19 @@
 //! Versions: insert (save, restore, create), load, history, diff.
 //!
-//! Algorithm of a save: inside the writer's `IMMEDIATE` transaction, read
-//! the model's `latest`; with a `base` that is not it, refuse with
-//! `Conflict { latest }`; else bump `latest` (`UPDATE … RETURNING`), insert
-//! the version under that number and its asset links, and log the change.
-//! The number is assigned where it is written, and
-//! `PRIMARY KEY (model_id, number)` refuses a second version N from any
-//! other writer, so two saves can never both become version N.
+//! Algorithm of a save, inside the writer's `IMMEDIATE` transaction:
+//! 1. read the model's `latest`;
+//! 2. with a `base` that is not it, refuse with `Conflict { latest }`;
+//! 3. else bump `latest` (`UPDATE … RETURNING`);
+//! 4. insert the version under that number, and its asset links;
+//! 5. log the change.
 //!
-//! A version is two rows: its small columns in `versions` (what a history
-//! page lists) and its source and parameters in `version_sources`, so
-//! listing never reads sources.
+//! The number is assigned where it is written.
+//! `PRIMARY KEY (model_id, number)` refuses a second version N from any
+//! other writer. So two saves can never both become version N.
+//!
+//! A version is two rows, so listing never reads sources. Its small columns
+//! (what a history page lists) are in `versions`. Its source and parameters
+//! are in `version_sources`.
 
 use std::collections::HashSet;
 use std::time::Duration;
