@@ -11,16 +11,17 @@
 //!      + mode_penalty[mode] + settings penalty
 //! ```
 //!
-//! The mode penalty says what a mode gives up whatever its speed (a view
-//! set only shows fixed views, a volume is blurred by its grid, a still
-//! image's orbit frames come from the server); the settings penalty what
-//! lower settings give up (image quality and size below the screen's,
-//! mesh depth, render scale of the client's ray casters, view count).
+//! - The mode penalty says what a mode gives up whatever its speed. A view
+//!   set only shows fixed views, a volume is blurred by its grid, and a
+//!   still image's orbit frames come from the server.
+//! - The settings penalty says what lower settings give up: image quality
+//!   and size below the screen's, mesh depth, render scale of the client's
+//!   ray casters, view count.
 //!
-//! Settings are chosen by the same cost: for each mode a small ladder of
-//! candidate settings is predicted and the cheapest kept, so that on a slow
-//! link images get smaller and lossier and meshes coarser, and a slow GPU
-//! ray casts at a reduced resolution, exactly as far as it pays.
+//! Settings are chosen by the same cost. For each mode a small ladder of
+//! candidate settings is predicted, and the cheapest kept. So on a slow link
+//! images get smaller and lossier and meshes coarser. A slow GPU ray casts
+//! at a reduced resolution. Each goes exactly as far as it pays.
 
 use frep_wire::{ImageEncoding, Mode, ModeSettings};
 use serde::Serialize;

@@ -1,12 +1,14 @@
-//! What the engine believes of a client ([`ClientCaps`]), from its report:
-//! measured figures where the browser measured, guesses otherwise, and a
-//! software rasterizer recognised by its unmasked renderer string; and the
-//! resource limits of the modes ([`Limits`]).
+//! What the engine believes of a client ([`ClientCaps`]), from its report.
+//! It takes measured figures where the browser measured, and guesses
+//! otherwise. A software rasterizer is recognised by its unmasked renderer
+//! string. Also the resource limits of the modes ([`Limits`]).
 //!
-//! Guesses when a benchmark is missing: GPU 3 ms per 256² benchmark frame on
-//! a desktop, 8 ms on a mobile, 80 ms on a software renderer; JS speed 1×
-//! the reference desktop, 3× slower on a mobile. Non-finite or non-positive
-//! figures count as missing.
+//! Guesses when a benchmark is missing:
+//! - GPU: 3 ms per 256² benchmark frame on a desktop, 8 ms on a mobile,
+//!   80 ms on a software renderer;
+//! - JS speed: 1× the reference desktop, 3× slower on a mobile.
+//!
+//! Non-finite or non-positive figures count as missing.
 
 use frep_wire::ClientReport;
 use serde::Serialize;

@@ -1,6 +1,6 @@
 //! The engine's configuration: the limits of the modes, the weights of the
-//! cost, how corrections learn, and the hysteresis timers and bands, all
-//! checked by [`EngineConfig::validate`] before an engine is made.
+//! cost, how corrections learn, and the hysteresis timers and bands.
+//! [`EngineConfig::validate`] checks them all before an engine is made.
 
 use serde::Serialize;
 

@@ -1,15 +1,17 @@
 //! Learning from what the client reports: per-mode correction factors.
 //!
 //! The cost model's constants are rough, and every client and model differs.
-//! When a client reports how long a mode actually took to reach the screen
-//! (`displayed`) or how fast it actually orbits (`frameRate`), the ratio
-//! actual / predicted (the prediction *before* correction, for the settings
-//! that were in use) is folded into a factor for that mode, and later
-//! predictions of that mode are multiplied by it.
-//!
-//! Each factor is a moving average in log space (a 3× and a ⅓× report
-//! cancel out), each ratio clamped to `[1/max_ratio, max_ratio]` (one absurd
-//! report cannot take over) and the factor to `[1/max_factor, max_factor]`.
+//! A client reports how long a mode actually took to reach the screen
+//! (`displayed`), or how fast it actually orbits (`frameRate`).
+//! - The ratio actual / predicted is folded into a factor for that mode. The
+//!   prediction is the one *before* correction, for the settings that were
+//!   in use.
+//! - Later predictions of that mode are multiplied by the factor.
+//! - Each factor is a moving average in log space: a 3× and a ⅓× report
+//!   cancel out.
+//! - Each ratio is clamped to `[1/max_ratio, max_ratio]`, so one absurd
+//!   report cannot take over. The factor is clamped to
+//!   `[1/max_factor, max_factor]`.
 //!
 //! Frame times get a far wider clamp (`max_orbit_factor`, both bounds).
 //! The client measures the very thing predicted, and the prior can be off

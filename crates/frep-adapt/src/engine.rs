@@ -5,27 +5,33 @@
 //! ([`crate::choose::evaluate`]). Whether the result becomes a new
 //! [`Decision`] is governed by hysteresis, so that the mode does not flap:
 //!
-//! * **immediately**: at connection, on an override, when the current mode
-//!   became impossible (a report without WebGL2, a model too heavy for the
-//!   shader), when the client's frames have stayed under the target frame
-//!   rate for `downgrade_after_ms` (the slow mode's orbit correction is
-//!   learnt first, so the predictions already show it), and after a model
-//!   edit that makes the current mode miss the target frame rate;
-//! * **after `downgrade_after_ms` (~2 s)** of a better mode being preferred
-//!   (by at least `switch_margin` of the cost) while the current mode fails
-//!   its targets (orbit under the target frame rate, predicted or reported,
-//!   or edits slower than the weights' `patience_ms`);
+//! * **immediately**:
+//!   - at connection, and on an override;
+//!   - when the current mode became impossible: a report without WebGL2, a
+//!     model too heavy for the shader;
+//!   - when the client's frames have stayed under the target frame rate for
+//!     `downgrade_after_ms`. The slow mode's orbit correction is learnt
+//!     first, so the predictions already show it;
+//!   - after a model edit that makes the current mode miss the target frame
+//!     rate;
+//! * **after `downgrade_after_ms` (~2 s)** of a better mode being preferred,
+//!   by at least `switch_margin` of the cost, while the current mode fails
+//!   its targets. Failing means orbit under the target frame rate (predicted
+//!   or reported), or edits slower than the weights' `patience_ms`;
 //! * **after `upgrade_after_ms` (~10 s)** of a better mode being preferred,
-//!   the whole time, while the current mode is fine, and only when the user
-//!   has been idle for `idle_before_upgrade_ms`.
+//!   the whole time, while the current mode is fine. Only when the user has
+//!   been idle for `idle_before_upgrade_ms`.
 //!
-//! A preference that lapses for one evaluation restarts its timer. Settings
-//! within the same mode change when their inputs changed discretely
-//! (report, model edit, slow frames), moved out of a band (the network by
-//! more than `network_band` ×, the load factor by `load_band` ×), or when
-//! new settings beat the ones in force by `switch_margin` (after learning
-//! from the client's reports, or from the server's measurements). An
-//! override is obeyed whenever the client can show the mode. A hold (a
+//! A preference that lapses for one evaluation restarts its timer.
+//!
+//! Settings within the same mode change when:
+//! - their inputs changed discretely: report, model edit, slow frames;
+//! - their inputs moved out of a band: the network by more than
+//!   `network_band` ×, the load factor by `load_band` ×;
+//! - new settings beat the ones in force by `switch_margin`, after learning
+//!   from the client's reports or from the server's measurements.
+//!
+//! An override is obeyed whenever the client can show the mode. A hold (a
 //! better mode waiting) is logged when it starts; every decision is logged.
 //! Corrections and the override survive a reconnection.
 

@@ -1,39 +1,50 @@
 //! # frep-adapt
 //!
-//! The adaptive delivery engine: from a client's measurements, a model's
-//! statistics and the server's load to a delivery mode, its settings and
-//! the reason, per WebSocket session. Pure code: no I/O, no clock (every
-//! event carries the time in ms from any fixed origin, monotonic), no
-//! threads.
+//! The adaptive delivery engine, one per WebSocket session. From a client's
+//! measurements, a model's statistics and the server's load, it decides a
+//! delivery mode, its settings and the reason. Pure code: no I/O, no
+//! threads, and no clock. Every event carries the time in ms from any fixed
+//! origin, monotonic.
 //!
 //! ## How it decides
-//! For every mode (1 still, 2 view set, 3 server mesh, 4a GPU ray casting,
-//! 4b WASM mesh, volume) [`choose`] tries a short ladder of settings
-//! ([`choose::candidates`]: image size and quality, view count, mesh depth,
-//! render scale, volume grid) and [`predict`] predicts for each the time to
-//! first display, the time per orbit frame and the latency of a parameter
-//! edit, or refuses the mode with a reason (no WebGL2, a shader too long
-//! for a browser or too slow to compile on a software renderer, too many
-//! primitives, no WASM...). [`choose`] scores them (first display, orbit
-//! smoothness with a penalty under 20 fps, edits, and what each mode and
-//! lower settings give up) and keeps the cheapest settings of each mode and
-//! the cheapest feasible mode. [`Engine`] keeps one session's state: it
-//! re-decides on every event with hysteresis (leaving a mode that fails its
-//! targets after ~2 s, switching to a better mode only after ~10 s of
-//! steady advantage and an idle user), obeys the user's override, learns
-//! correction factors from what the client reports it actually took
-//! ([`correction`]), and logs every decision with its inputs and
-//! predictions ([`log`]); [`reason`] words the why with its numbers.
+//! The modes are 1 still, 2 view set, 3 server mesh, 4a GPU ray casting,
+//! 4b WASM mesh, and volume.
+//! 1. For every mode, [`choose`] tries a short ladder of settings
+//!    ([`choose::candidates`]): image size and quality, view count, mesh
+//!    depth, render scale, volume grid.
+//! 2. For each, [`predict`] predicts the time to first display, the time
+//!    per orbit frame and the latency of a parameter edit.
+//! 3. [`predict`] may refuse the mode instead, with a reason: no WebGL2, a
+//!    shader too long for a browser or too slow to compile on a software
+//!    renderer, too many primitives, no WASM...
+//! 4. [`choose`] scores them: first display, orbit smoothness with a penalty
+//!    under 20 fps, edits, and what each mode and lower settings give up.
+//! 5. It keeps the cheapest settings of each mode, and the cheapest feasible
+//!    mode.
+//!
+//! [`Engine`] keeps one session's state.
+//! - It re-decides on every event, with hysteresis. It leaves a mode that
+//!   fails its targets after ~2 s. It switches to a better mode only after
+//!   ~10 s of steady advantage and an idle user.
+//! - It obeys the user's override.
+//! - It learns correction factors from what the client reports it actually
+//!   took ([`correction`]).
+//! - It logs every decision with its inputs and predictions ([`log`]).
+//!
+//! [`reason`] words the why with its numbers.
 //!
 //! ## Feeding it
-//! [`Engine::connect`] once the client's report and a model are known;
-//! then [`Engine::measurement`] (network), [`Engine::report`],
-//! [`Engine::frame_rate`], [`Engine::displayed`], [`Engine::model_changed`],
-//! [`Engine::server_measured`] (an artefact's measured cost),
-//! [`Engine::set_override`], [`Engine::load`], [`Engine::activity`] (camera
-//! moves and drags: upgrades wait for an idle user) and [`Engine::tick`]
-//! about every second (hysteresis timers advance only on events). Each
-//! returns `Some(decision)` when there is something new to push.
+//! - [`Engine::connect`] once the client's report and a model are known.
+//! - Then [`Engine::measurement`] (network), [`Engine::report`],
+//!   [`Engine::frame_rate`], [`Engine::displayed`], [`Engine::model_changed`],
+//!   [`Engine::server_measured`] (an artefact's measured cost),
+//!   [`Engine::set_override`] and [`Engine::load`].
+//! - [`Engine::activity`]: camera moves and drags. Upgrades wait for an idle
+//!   user.
+//! - [`Engine::tick`] about every second, since hysteresis timers advance
+//!   only on events.
+//!
+//! Each returns `Some(decision)` when there is something new to push.
 
 //! ## Use
 //! ```

@@ -1,6 +1,8 @@
-//! The decision log's vocabulary: what triggered an evaluation, a summary
-//! of its inputs, and one log entry (its predictions, the best and the
-//! chosen mode, and whether a decision was issued or hysteresis held it).
+//! The decision log's vocabulary:
+//! - what triggered an evaluation;
+//! - a summary of its inputs;
+//! - one log entry: its predictions, the best and the chosen mode, and
+//!   whether a decision was issued or hysteresis held it.
 
 use frep_wire::{Mode, ModePrediction, NetworkEstimate};
 use serde::Serialize;

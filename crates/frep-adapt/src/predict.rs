@@ -7,46 +7,55 @@
 //! is one and from a constant below otherwise:
 //!
 //! * **server**: ms to compute and encode the artefact, multiplied by the
-//!   server's load factor (`1 + (busy + queued) / workers`). Measured
-//!   figures for this model ([`crate::Measured`]) are scaled to the
-//!   settings (per pixel, per triangle, per cell); otherwise images cost
-//!   [`RENDER_MS_PER_MPIX_CLOSED`] (closed form, ≈ 3.5 ms at 512²) or
-//!   [`RENDER_MS_PER_MPIX_GENERAL`] × `w` per megapixel (≈ 21 ms at 512²
-//!   for 40 operations, ≈ 57 ms for 300), plus [`ENCODE_MS_PER_MPIX`];
-//!   meshes have [`MESH_TRIANGLES_PER_CELL_FACTOR`] × 4^depth triangles (a
-//!   mesh grows ~4× per octree level) at [`MESH_SERVER_US_PER_TRIANGLE`] ×
-//!   `w` µs each; volumes cost grid³ point evaluations at
-//!   [`SERVER_MEVALS_PER_S`] / `w`. Here `w` = √(tape / [`REFERENCE_TAPE`])
-//!   ([`tape_work`]) is the work per point relative to the reference model:
-//!   sublinear in the tape length because interval pruning evaluates only
-//!   the part of the tape that matters in each region.
-//! * **bytes**: JPEG [`JPEG_BYTES_PER_PIXEL_Q75`] bytes per pixel at q75
-//!   (22 kB at 512²), scaled by quality and, for small views, by
-//!   (512² / pixels)^¼ (12 views of 256² ≈ 99 kB); WebP
-//!   [`WEBP_BYTES_FACTOR`] of that for [`WEBP_EXTRA_ENCODE_MS_PER_MPIX`]
-//!   more encoding (stills and view sets only: streamed frames stay JPEG);
-//!   meshopt glb
-//!   [`MESH_BYTES_PER_TRIANGLE`] bytes per triangle; volumes
-//!   [`VOLUME_BYTES_PER_CELL`] per cell (narrow band, compressed).
-//!   Transfer is bytes × 8 / bandwidth, plus one round trip per request
-//!   (two for an artefact fetched over HTTP after its reference arrives on
-//!   the socket).
-//! * **client**: the GPU benchmark `g` (ms per 256² frame of a reference
-//!   ray-marched field of [`REFERENCE_STATEMENTS`] statements, less a fixed
-//!   [`BENCH_OVERHEAD_MS`] of synchronising: [`gpu_work_ms`]) scales the
-//!   generated shader's frame: `g × pixels / 256² × (s + 20) / (ref + 20)`
-//!   for `s` statements; triangles draw at [`TRIANGLES_PER_MS_AT_1MS_BENCH`]
-//!   / `g` per ms, plus a raster fill of [`RASTER_FILL_FRACTION`] of a
-//!   ray-march pixel; a volume frame is [`VOLUME_MARCH_FACTOR`] × g per
-//!   256² pixels × grid / 64. Shader compilation costs
-//!   [`COMPILE_BASE_MS`] + per statement [`COMPILE_MS_PER_STATEMENT_GPU`]
-//!   (twice that on mobile) or [`COMPILE_MS_PER_STATEMENT_SOFTWARE`] on a
-//!   software renderer (SwiftShader's first frame of 1000 spheres, ~4600
-//!   statements, took ~7 s).
-//!   The JS benchmark (`cpu_bench_ms` against [`CPU_BENCH_REFERENCE_MS`])
-//!   scales decoding; the WASM benchmark (million evaluations per second of
-//!   a [`REFERENCE_TAPE`]-op model) scales browser polygonizing at
-//!   [`WASM_EVALS_PER_TRIANGLE`] evaluations per triangle.
+//!   server's load factor (`1 + (busy + queued) / workers`).
+//!   - Measured figures for this model ([`crate::Measured`]) are scaled to
+//!     the settings: per pixel, per triangle, per cell.
+//!   - Otherwise images cost [`RENDER_MS_PER_MPIX_CLOSED`] per megapixel in
+//!     closed form (≈ 3.5 ms at 512²). In general they cost
+//!     [`RENDER_MS_PER_MPIX_GENERAL`] × `w` per megapixel: ≈ 21 ms at 512²
+//!     for 40 operations, ≈ 57 ms for 300. Encoding adds
+//!     [`ENCODE_MS_PER_MPIX`].
+//!   - Meshes have [`MESH_TRIANGLES_PER_CELL_FACTOR`] × 4^depth triangles,
+//!     since a mesh grows ~4× per octree level. Each costs
+//!     [`MESH_SERVER_US_PER_TRIANGLE`] × `w` µs.
+//!   - Volumes cost grid³ point evaluations at [`SERVER_MEVALS_PER_S`] / `w`.
+//!   - Here `w` = √(tape / [`REFERENCE_TAPE`]) ([`tape_work`]) is the work
+//!     per point relative to the reference model. It is sublinear in the
+//!     tape length, because interval pruning evaluates only the part of the
+//!     tape that matters in each region.
+//! * **bytes**:
+//!   - JPEG takes [`JPEG_BYTES_PER_PIXEL_Q75`] bytes per pixel at q75 (22 kB
+//!     at 512²). That is scaled by quality and, for small views, by
+//!     (512² / pixels)^¼: 12 views of 256² ≈ 99 kB.
+//!   - WebP takes [`WEBP_BYTES_FACTOR`] of that, for
+//!     [`WEBP_EXTRA_ENCODE_MS_PER_MPIX`] more encoding. It is for stills and
+//!     view sets only; streamed frames stay JPEG.
+//!   - A meshopt glb takes [`MESH_BYTES_PER_TRIANGLE`] bytes per triangle.
+//!   - Volumes take [`VOLUME_BYTES_PER_CELL`] per cell (narrow band,
+//!     compressed).
+//!   - Transfer is bytes × 8 / bandwidth, plus one round trip per request.
+//!     An artefact fetched over HTTP after its reference arrives on the
+//!     socket takes two.
+//! * **client**:
+//!   - The GPU benchmark `g` is the ms per 256² frame of a reference
+//!     ray-marched field of [`REFERENCE_STATEMENTS`] statements. A fixed
+//!     [`BENCH_OVERHEAD_MS`] of synchronising is taken off ([`gpu_work_ms`]).
+//!   - `g` scales the generated shader's frame:
+//!     `g × pixels / 256² × (s + 20) / (ref + 20)` for `s` statements.
+//!   - Triangles draw at [`TRIANGLES_PER_MS_AT_1MS_BENCH`] / `g` per ms. A
+//!     raster fill of [`RASTER_FILL_FRACTION`] of a ray-march pixel is added.
+//!   - A volume frame is [`VOLUME_MARCH_FACTOR`] × g per 256² pixels ×
+//!     grid / 64.
+//!   - Shader compilation costs [`COMPILE_BASE_MS`] plus, per statement,
+//!     [`COMPILE_MS_PER_STATEMENT_GPU`] (twice that on mobile). On a software
+//!     renderer it is [`COMPILE_MS_PER_STATEMENT_SOFTWARE`] per statement:
+//!     SwiftShader's first frame of 1000 spheres (~4600 statements) took
+//!     ~7 s.
+//!   - The JS benchmark (`cpu_bench_ms` against [`CPU_BENCH_REFERENCE_MS`])
+//!     scales decoding.
+//!   - The WASM benchmark (million evaluations per second of a
+//!     [`REFERENCE_TAPE`]-op model) scales browser polygonizing, at
+//!     [`WASM_EVALS_PER_TRIANGLE`] evaluations per triangle.
 //!
 //! ## Per mode
 //! | mode | first display | orbit frame | edit (parameter drag) |
@@ -58,8 +67,8 @@
 //! | 4b WASM mesh | 2 rtt + model transfer + polygonize in WASM + upload + draw | draw | coarse mesh in WASM + draw |
 //! | volume | 2 rtt + server slices + transfer + texture upload + frame | frame | the volume again |
 //!
-//! Missing benchmarks are guessed ([`crate::ClientCaps::from_report`]): a guess
-//! is only a first estimate; the corrections learnt from the client's
+//! Missing benchmarks are guessed ([`crate::ClientCaps::from_report`]). A guess
+//! is only a first estimate. The corrections learnt from the client's
 //! reports ([`crate::Corrections`]) multiply the predictions of each mode.
 
 use frep_wire::{ImageEncoding, Mode, ModePrediction, ModeSettings, NetworkEstimate};
@@ -125,8 +134,8 @@ pub const DECODE_MS_PER_MPIX: f64 = 10.0;
 /// Client meshopt decode and upload ms per triangle on the reference
 /// desktop (864 k triangles ≈ 86 ms).
 pub const MESH_DECODE_MS_PER_TRIANGLE: f64 = 1.0e-4;
-/// WASM point evaluations per output triangle of the browser polygonizer
-/// (corners, edge roots, interval work counted as points): with a 40 Meps
+/// WASM point evaluations per output triangle of the browser polygonizer.
+/// Corners, edge roots and interval work are counted as points. On a 40 Meps
 /// desktop that is ~4 µs a triangle, twice the server's native cost.
 pub const WASM_EVALS_PER_TRIANGLE: f64 = 150.0;
 /// Fixed ms of any client frame (the browser's own work).
@@ -504,9 +513,9 @@ pub fn mesh_bytes(stats: &ModelStats, depth: u8) -> f64 {
     per * mesh_triangles(stats, depth)
 }
 
-/// The part of the GPU benchmark's frame that scales with pixels: the
+/// The part of the GPU benchmark's frame that scales with pixels. The
 /// measured frame includes a fixed [`BENCH_OVERHEAD_MS`] of synchronising
-/// (finish, read back), which dominates on fast GPUs; at least a tenth of
+/// (finish, read back), which dominates on fast GPUs. At least a tenth of
 /// the frame counts as work.
 pub fn gpu_work_ms(caps: &ClientCaps) -> f64 {
     (caps.gpu_ms - BENCH_OVERHEAD_MS)

@@ -1,6 +1,7 @@
-//! The reason of a decision in plain words, with its numbers: what ruled
-//! modes out, the mode and its settings, what it is expected to do, and the
-//! network and load it assumed.
+//! The reason of a decision in plain words, with its numbers:
+//! - what ruled modes out;
+//! - the mode and its settings, and what it is expected to do;
+//! - the network and load it assumed.
 
 use frep_wire::{ImageEncoding, Mode, ModeSettings};
 

@@ -1,11 +1,12 @@
-//! What the engine knows of a model and of the server: the compiled model's
-//! sizes ([`ModelStats`]), the server's measured costs of this model's
-//! artefacts when it has made some ([`Measured`]), and the server's load
-//! ([`ServerLoad`]).
+//! What the engine knows of a model and of the server:
+//! - the compiled model's sizes ([`ModelStats`]);
+//! - the server's measured costs of this model's artefacts, when it has made
+//!   some ([`Measured`]);
+//! - the server's load ([`ServerLoad`]).
 //!
 //! The server fills [`ModelStats`] from its compile summary
-//! ([`ModelStats::from_summary`]) and adds a measured sample each time it
-//! computes an artefact ([`ModelStats::record`]); the predictor prefers a
+//! ([`ModelStats::from_summary`]). It adds a measured sample each time it
+//! computes an artefact ([`ModelStats::record`]). The predictor prefers a
 //! measured figure to an estimate (see `predict.rs` for the estimates).
 
 use frep_wire::CompileSummary;
@@ -185,8 +186,8 @@ impl Default for ServerLoad {
 }
 
 impl ServerLoad {
-    /// How much longer a server job takes than on an idle server: a new
-    /// job waits, on average, for the queue ahead of it and shares the
+    /// How much longer a server job takes than on an idle server. A new
+    /// job waits, on average, for the queue ahead of it, and shares the
     /// machine with the busy workers. `1 + (busy + queued) / workers`.
     pub fn factor(&self) -> f64 {
         let workers = f64::from(self.workers.max(1));

@@ -1,7 +1,7 @@
-//! The engine's hysteresis: which mode an evaluation targets (an override,
-//! the mode in force, or a better one whose timer has run), and whether the
-//! settings of the mode in force should change. The rules are in the
-//! parent module's doc.
+//! The engine's hysteresis. It picks which mode an evaluation targets: an
+//! override, the mode in force, or a better one whose timer has run. It
+//! also says whether the settings of the mode in force should change. The
+//! rules are in the parent module's doc.
 
 use frep_wire::Decision;
 
@@ -177,10 +177,10 @@ impl Engine {
     }
 
     /// Whether the target keeps the current mode but its settings should
-    /// change: their inputs changed discretely (report, edit, slow frames),
-    /// moved out of band (network, load), or the new settings are better
-    /// than the ones in force by the switch margin (corrections learnt,
-    /// server measurements).
+    /// change. That is so when their inputs changed discretely (report,
+    /// edit, slow frames) or moved out of band (network, load). It is also
+    /// so when the new settings beat the ones in force by the switch margin
+    /// (corrections learnt, server measurements).
     pub(super) fn settings_changed(&self, trigger: Trigger, target: &Scored) -> bool {
         let Some(cur) = self.current.as_ref() else {
             return false;
