@@ -1,16 +1,23 @@
 //! Artefacts: `POST /api/artefacts` (where it will be) and
 //! `GET /api/artefacts/{key}.{ext}` (the bytes).
 //!
-//! The POST resolves the model (a stored version, or a source being edited),
-//! compiles it (cached), and registers the request with the artefact
-//! service, which answers the content address at once. The GET serves the
-//! bytes at that immutable URL: `ETag` is the key, so an `If-None-Match`
-//! carrying it is answered 304 without touching the cache; otherwise the
-//! body comes from the disk cache or from the one job computing it. A job
-//! takes one of the client's `jobs_per_client` slots while the client waits
-//! for it (cached answers take none); the service's own queue bounds the
-//! whole server (`workers` + `queue`, then 503). When shutdown's grace period
-//! ends, waiting requests give up, which cancels their jobs.
+//! The POST:
+//! 1. resolves the model: a stored version, or a source being edited;
+//! 2. compiles it (cached);
+//! 3. registers the request with the artefact service, which answers the
+//!    content address at once.
+//!
+//! The GET serves the bytes at that immutable URL.
+//! - `ETag` is the key, so an `If-None-Match` carrying it is answered 304
+//!   without touching the cache.
+//! - Otherwise the body comes from the disk cache, or from the one job
+//!   computing it.
+//! - A job takes one of the client's `jobs_per_client` slots while the
+//!   client waits for it. Cached answers take none.
+//! - The service's own queue bounds the whole server: `workers` + `queue`,
+//!   then 503.
+//! - When shutdown's grace period ends, waiting requests give up, which
+//!   cancels their jobs.
 //!
 //! Exports (`stl`, `obj`, `ply`, `glb`, `3mf`) are sent as attachments; the
 //! file name is `?name=` (sanitised) or `frep-{key prefix}`.
@@ -200,8 +207,8 @@ fn is_export(ext: &str) -> bool {
     matches!(ext, "stl" | "obj" | "ply" | "glb" | "3mf")
 }
 
-/// Whether a URL's extension is the one of the body's media type (the key
-/// alone decides the body; a wrong extension is a wrong URL).
+/// Whether a URL's extension is the one of the body's media type. The key
+/// alone decides the body, so a wrong extension is a wrong URL.
 fn extension_fits(ext: &str, media_type: &str) -> bool {
     let expected: &[&str] = match media_type {
         "image/jpeg" => &["jpg", "jpeg"],

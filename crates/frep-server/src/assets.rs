@@ -1,11 +1,11 @@
 //! Assets: `POST /api/assets` (raw bytes in, [`AssetRef`] out) and
 //! `GET /api/assets/{hash}`.
 //!
-//! An asset is a file a model refers to (an imported mesh, an image),
-//! stored once by the BLAKE3 hash of its content, so its URL is immutable
+//! An asset is a file a model refers to: an imported mesh, an image. It is
+//! stored once by the BLAKE3 hash of its content. So its URL is immutable
 //! and served like an artefact (`Cache-Control: immutable`, `ETag` the
-//! hash). Uploads are bounded by `limits.asset_bytes` (the route's own body
-//! limit); the media type is the request's `Content-Type`, the name is
+//! hash). Uploads are bounded by `limits.asset_bytes`, the route's own body
+//! limit. The media type is the request's `Content-Type`, the name is
 //! `?name=`.
 
 use axum::body::Bytes;

@@ -2,11 +2,12 @@
 //!
 //! The user is the `x-frep-user` header (trimmed, 1–64 printable
 //! characters), else [`DEFAULT_USER`]: the local studio has no accounts.
-//! This is identification, not authentication — a deployment that needs
-//! real users puts an authenticating proxy in front that sets the header.
+//! This is identification, not authentication. A deployment that needs real
+//! users puts an authenticating proxy in front that sets the header.
+//!
 //! Writes to an existing model are allowed when the configuration is
-//! `open_access`, else only when the store says the user may edit it (the
-//! owner); refused writes get 403.
+//! `open_access`. Otherwise they are allowed only when the store says the
+//! user may edit it (the owner). Refused writes get 403.
 
 use std::convert::Infallible;
 
@@ -31,8 +32,8 @@ pub struct User(pub String);
 
 impl User {
     /// The user of a request's headers: the header when it is a sensible
-    /// name, else the default (a malformed header is not an error: it only
-    /// identifies, and the default has no more rights than any name).
+    /// name, else the default. A malformed header is not an error. It only
+    /// identifies, and the default has no more rights than any name.
     pub fn from_headers(headers: &axum::http::HeaderMap) -> User {
         let name = headers
             .get(USER_HEADER)

@@ -1,13 +1,14 @@
 //! `POST /api/compile`: a source's diagnostics, or its summary.
 //!
-//! The source is checked against `limits.source_bytes` before any work (a
-//! refusal names the limit), then compiled on the blocking pool through the
-//! shared [`frep_artefact::CompileCache`] (the editor compiles the same text
-//! again and again; artefact requests reuse the compiled model). A model
-//! error is not a failed request: the answer is 200 with `ok: false` and
-//! diagnostics giving line, column and the caret text. Compile limits
-//! (nodes, steps, loop iterations) come back as diagnostics too, since they
-//! are properties of the model.
+//! - The source is checked against `limits.source_bytes` before any work. A
+//!   refusal names the limit.
+//! - It is then compiled on the blocking pool, through the shared
+//!   [`frep_artefact::CompileCache`]. The editor compiles the same text
+//!   again and again, and artefact requests reuse the compiled model.
+//! - A model error is not a failed request. The answer is 200 with
+//!   `ok: false`, and diagnostics giving line, column and the caret text.
+//! - Compile limits (nodes, steps, loop iterations) come back as
+//!   diagnostics too, since they are properties of the model.
 
 use std::sync::Arc;
 

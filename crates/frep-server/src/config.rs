@@ -6,19 +6,22 @@
 //! environment and no flags give a working local studio.
 //!
 //! The file is the [`Config`] itself in JSON, snake_case keys, every key
-//! optional, e.g. `{"addr": "0.0.0.0:8080", "limits": {"source_bytes": 65536}}`;
-//! the sessions' limits and timers are under `session`.
+//! optional, e.g. `{"addr": "0.0.0.0:8080", "limits": {"source_bytes": 65536}}`.
+//! The sessions' limits and timers are under `session`.
 //! The environment names are `FREP_ADDR`, `FREP_DATA`, `FREP_OPEN_ACCESS`,
 //! `FREP_STATIC_DIR`, `FREP_SHUTDOWN_GRACE_MS` and one `FREP_LIMIT_<NAME>`
 //! per limit (`FREP_LIMIT_SOURCE_BYTES`, …). The limits' names are also what
 //! an [`frep_wire::ApiError`]'s `limit` field says, so a refused client can
 //! be told which setting to raise.
 //!
-//! Environment overrides are applied generically: the configuration is
-//! turned into a JSON object, each variable that names one of its keys
-//! replaces that key's value (parsed as JSON when it parses, else taken as a
-//! string), and the object is read back — so a new limit needs no new code
-//! here, and a bad value is refused with the variable's name.
+//! Environment overrides are applied generically:
+//! 1. the configuration is turned into a JSON object;
+//! 2. each variable that names one of its keys replaces that key's value,
+//!    parsed as JSON when it parses, else taken as a string;
+//! 3. the object is read back.
+//!
+//! So a new limit needs no new code here, and a bad value is refused with
+//! the variable's name.
 
 use std::net::SocketAddr;
 use std::path::{Path, PathBuf};

@@ -1,9 +1,11 @@
 //! One error type for every handler, answered as a JSON [`ApiError`].
 //!
-//! Policy: every failure a client can cause gets a 4xx status, a stable
-//! machine-readable `code` and a message a person can act on; nothing a
-//! client sends can produce a 5xx except a real fault of the server (then
-//! the message is generic, and the cause goes to the log, not the wire).
+//! Policy:
+//! - Every failure a client can cause gets a 4xx status, a stable
+//!   machine-readable `code`, and a message a person can act on.
+//! - Nothing a client sends can produce a 5xx, except a real fault of the
+//!   server. Then the message is generic, and the cause goes to the log,
+//!   not the wire.
 //!
 //! | code | status | when |
 //! |---|---|---|

@@ -6,13 +6,15 @@
 //! test checks that this list is exactly the folder's `*.hf` files, so a new
 //! example cannot be forgotten.
 //!
-//! Seeding happens once per data folder: on the first start every example
-//! becomes a model of [`EXAMPLES_OWNER`], named after its file (without
-//! `.hf`), version 1 with the message "example"; then a marker file
-//! (`examples-seeded`) is written in the data folder. A later start finds the
-//! marker — or, should it be missing after a crash between the two steps,
-//! the example models themselves — and adds nothing, so examples the user
-//! deleted stay deleted.
+//! Seeding happens once per data folder.
+//! 1. On the first start, every example becomes a model of
+//!    [`EXAMPLES_OWNER`], named after its file (without `.hf`). It gets
+//!    version 1 with the message "example".
+//! 2. Then a marker file (`examples-seeded`) is written in the data folder.
+//!
+//! A later start finds the marker and adds nothing, so examples the user
+//! deleted stay deleted. Should the marker be missing after a crash between
+//! the two steps, the example models themselves are found instead.
 
 use std::path::Path;
 
@@ -58,9 +60,9 @@ pub const EXAMPLES: &[(&str, &str)] = &[
 /// The marker file of a seeded data folder.
 pub const SEEDED_MARKER: &str = "examples-seeded";
 
-/// Seeds the examples into `store` unless `data_dir` has the marker or the
-/// store has a model owned by [`EXAMPLES_OWNER`]; answers how many models
-/// it created.
+/// Seeds the examples into `store`, unless `data_dir` has the marker or the
+/// store has a model owned by [`EXAMPLES_OWNER`]. Answers how many models it
+/// created.
 pub fn seed(store: &dyn Store, data_dir: &Path) -> Result<usize, SeedError> {
     let marker = data_dir.join(SEEDED_MARKER);
     if marker.exists() {

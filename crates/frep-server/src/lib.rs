@@ -2,32 +2,38 @@
 //!
 //! The frep server: one axum application in front of three tiers.
 //!
-//! 1. **Store** (`frep-store`): the master copy of every model — immutable
-//!    versions, the ordered change log, uploaded assets — in SQLite under the
-//!    data folder. Blocking calls, run on tokio's blocking pool; a write is
-//!    answered only after the store committed it, and only then published
-//!    to the sessions ([`AppState::changes`]).
-//! 2. **Artefacts** (`frep-artefact`): compiled models (cached by source)
-//!    and what is computed from them — images, view sets, meshes, slices,
-//!    shaders, exports — at content-addressed URLs, computed once on a
-//!    bounded worker pool and kept in a disk cache under the data folder.
+//! 1. **Store** (`frep-store`): the master copy of every model, in SQLite
+//!    under the data folder. It holds immutable versions, the ordered change
+//!    log and uploaded assets. Its calls block, so they run on tokio's
+//!    blocking pool. A write is answered only after the store committed it,
+//!    and only then published to the sessions ([`AppState::changes`]).
+//! 2. **Artefacts** (`frep-artefact`): compiled models (cached by source),
+//!    and what is computed from them: images, view sets, meshes, slices,
+//!    shaders, exports. They live at content-addressed URLs. Each is
+//!    computed once on a bounded worker pool, and kept in a disk cache under
+//!    the data folder.
 //! 3. **Sessions** (`session`, WebSocket `/api/session`): a studio's live
 //!    connection, where the adaptive engine (`frep-adapt`) picks the
 //!    delivery mode.
 //!
-//! How a request flows: [`router::router`] lists every route; a request
-//! gets a tracing span, the body limit, compression; its handler (one file
-//! per resource: [`models`], [`versions`], [`compile`], [`artefacts`],
-//! [`assets`]) reads typed JSON (a malformed body is a 400 `ApiError`),
-//! checks the configured limits, asks the store or the artefact service,
-//! and answers JSON or bytes. Every failure is one [`AppError`], answered
-//! as a JSON `ApiError` with a status ([`error`] has the policy).
+//! How a request flows:
+//! 1. [`router::router`] lists every route.
+//! 2. A request gets a tracing span, the body limit, compression.
+//! 3. Its handler reads typed JSON; a malformed body is a 400 `ApiError`.
+//!    There is one file per resource: [`models`], [`versions`],
+//!    [`compile`], [`artefacts`], [`assets`].
+//! 4. The handler checks the configured limits, and asks the store or the
+//!    artefact service.
+//! 5. It answers JSON or bytes.
+//!
+//! Every failure is one [`AppError`], answered as a JSON `ApiError` with a
+//! status ([`error`] has the policy).
 //!
 //! Start it with [`run`]: `run(listener, config, shutdown)` serves until
-//! `shutdown` completes, then stops accepting, lets requests in flight
-//! finish for `config.shutdown_grace_ms`, cancels the artefact jobs still
-//! running after that, and closes the store. Tests drive a real server on
-//! `127.0.0.1:0` this way; `frep serve` is the same call.
+//! `shutdown` completes. Then it stops accepting, and lets requests in
+//! flight finish for `config.shutdown_grace_ms`. It cancels the artefact
+//! jobs still running after that, and closes the store. Tests drive a real
+//! server on `127.0.0.1:0` this way; `frep serve` is the same call.
 #![warn(missing_docs)]
 
 pub mod artefacts;

@@ -1,8 +1,8 @@
 //! Models: `GET/POST /api/models`, `GET/PATCH/DELETE /api/models/{id}`,
 //! `POST /api/models/{id}/duplicate`, `GET /api/models/{id}/log?after=`.
 //!
-//! Each handler checks its input against the limits, runs one store call on
-//! the blocking pool, and answers once the store has committed; the
+//! Each handler checks its input against the limits, and runs one store call
+//! on the blocking pool. It answers once the store has committed. The
 //! committed change is then published to the sessions. Writes to an
 //! existing model go through [`User::check_edit`] (403 unless open access
 //! or the owner). Creating needs no permission: the creator owns the model.

@@ -1,9 +1,9 @@
 //! `GET /api/openapi.json`: the HTTP API described from the code itself.
 //!
-//! Every handler carries a `#[utoipa::path]` annotation next to its code,
-//! and the bodies are the frep-wire types (their `openapi` feature derives
-//! the schemas), so the document cannot drift from what the server does.
-//! It is built once, on first request.
+//! Every handler carries a `#[utoipa::path]` annotation next to its code.
+//! The bodies are the frep-wire types, whose `openapi` feature derives the
+//! schemas. So the document cannot drift from what the server does. It is
+//! built once, on first request.
 
 use std::sync::OnceLock;
 

@@ -1,13 +1,16 @@
 //! The table of contents of the server: every route in one place, and the
 //! layers every request goes through.
 //!
-//! Layers, outermost first: a tracing span per request (method, path, then
-//! status and duration when answered); a panic in a handler becomes a 500
-//! `ApiError` (the connection and the server live on); compression for the
-//! bodies it helps (not images, glb or 3MF, which are compressed already);
-//! the request body limit (`limits.request_bytes`, `limits.asset_bytes` for
-//! uploads), enforced by the extractors so that a refusal is a JSON
-//! `ApiError` naming the limit.
+//! Layers, outermost first:
+//! 1. a tracing span per request: method, path, then status and duration
+//!    when answered;
+//! 2. a panic in a handler becomes a 500 `ApiError`; the connection and the
+//!    server live on;
+//! 3. compression for the bodies it helps. Not images, glb or 3MF, which
+//!    are compressed already;
+//! 4. the request body limit (`limits.request_bytes`, `limits.asset_bytes`
+//!    for uploads). The extractors enforce it, so that a refusal is a JSON
+//!    `ApiError` naming the limit.
 
 use std::any::Any;
 use std::path::Path;
@@ -96,11 +99,12 @@ pub fn router(state: AppState) -> Router {
         .with_state(state)
 }
 
-/// The built studio: its hashed `assets/` immutable, everything else
-/// (`index.html`, also for the studio's own client-side paths) revalidated
-/// on every load so that a new build is picked up. The build writes `.br`
-/// and `.gz` beside each file (web/build/precompress.ts); they are sent
-/// where the client accepts them, so nothing is compressed per request.
+/// The built studio. Its hashed `assets/` are immutable. Everything else is
+/// revalidated on every load, so that a new build is picked up: that is
+/// `index.html`, also for the studio's own client-side paths. The build
+/// writes `.br` and `.gz` beside each file (web/build/precompress.ts). They
+/// are sent where the client accepts them, so nothing is compressed per
+/// request.
 fn studio(api: Router<AppState>, dir: &Path) -> Router<AppState> {
     let assets = ServiceBuilder::new()
         .layer(SetResponseHeaderLayer::if_not_present(

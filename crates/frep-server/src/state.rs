@@ -1,11 +1,14 @@
-//! What every handler and session shares: the store, the artefact service,
-//! the configuration, the feed of committed changes, the per-client job
-//! counts, and the shutdown signal.
+//! What every handler and session shares:
+//! - the store and the artefact service;
+//! - the configuration;
+//! - the feed of committed changes;
+//! - the per-client job counts;
+//! - the shutdown signal.
 //!
 //! `AppState` is cheap to clone (a handful of `Arc`s and channel ends); axum
-//! hands a clone to each request. Store calls are blocking (SQLite), so they
+//! hands a clone to each request. Store calls are blocking (SQLite). So they
 //! go through [`AppState::store_call`], which runs them on tokio's blocking
-//! pool: a request waits for the commit without stalling the other
+//! pool. A request then waits for the commit without stalling the other
 //! connections.
 
 use std::collections::HashMap;

@@ -4,8 +4,8 @@
 //!
 //! Versions are immutable: a save or a restore makes a new one. A save
 //! naming a `base` that is no longer the latest is refused with 409
-//! `conflict` and the latest number, so no client overwrites an edit it has
-//! not seen; the check and the insert are one store transaction.
+//! `conflict` and the latest number. So no client overwrites an edit it has
+//! not seen. The check and the insert are one store transaction.
 
 use axum::extract::State;
 use axum::http::StatusCode;

@@ -1,8 +1,8 @@
 //! The session's settings: every limit and timer of a WebSocket session,
 //! with defaults that suit a studio on a real network.
 //!
-//! It is a plain serde struct (snake_case keys, every key optional) so the
-//! server's configuration can carry it as `session` and tests can shorten
+//! It is a plain serde struct, with snake_case keys, every key optional. So
+//! the server's configuration can carry it as `session`. Tests can shorten
 //! the timers (hysteresis windows, probe budget) instead of waiting.
 
 use serde::{Deserialize, Serialize};

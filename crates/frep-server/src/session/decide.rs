@@ -1,14 +1,15 @@
 //! The session's glue to the adaptive engine ([`frep_adapt::Engine`]).
 //!
-//! The engine is pure and clockless; this keeps it fed. It connects once the
-//! client has said hello and a model is open (the engine needs the model's
-//! statistics), with the network measured so far. From then on every event
-//! goes to the engine with the session's clock (ms since the session
-//! started): reports, network estimates, frame rates, displays, overrides,
-//! model edits, the server's load, artefact timings and a periodic tick.
-//! When the engine issues a decision, it is returned to be pushed; every
-//! evaluation the engine logged (issued or held back by hysteresis) is
-//! traced with its inputs and predictions.
+//! The engine is pure and clockless; this keeps it fed.
+//! - It connects once the client has said hello and a model is open, with
+//!   the network measured so far. The engine needs the model's statistics.
+//! - From then on every event goes to the engine with the session's clock
+//!   (ms since the session started). Events are reports, network estimates,
+//!   frame rates, displays, overrides, model edits, the server's load,
+//!   artefact timings and a periodic tick.
+//! - When the engine issues a decision, it is returned to be pushed.
+//! - Every evaluation the engine logged is traced with its inputs and
+//!   predictions, whether issued or held back by hysteresis.
 
 use frep_adapt::{Engine, LogEntry, ModelStats, ServerLoad, ServerSample};
 use frep_wire::{ClientReport, Decision, Mode, NetworkEstimate};

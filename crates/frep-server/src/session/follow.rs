@@ -1,11 +1,11 @@
-//! Following the open model: the server publishes every committed change
-//! ([`crate::state::AppState::changes`]); a session tells its client when
+//! Following the open model. The server publishes every committed change
+//! ([`crate::state::AppState::changes`]). A session tells its client when
 //! someone else saved (or restored) a newer version of the model it shows.
 //!
-//! The session's own user is left out (the studio knows what it saved
-//! itself). A session that fell behind the broadcast (lagged) asks the
-//! store for the model's latest version instead and reports it when it is
-//! newer than the one open, so no new version goes unannounced.
+//! The session's own user is left out: the studio knows what it saved
+//! itself. A session that fell behind the broadcast (lagged) asks the store
+//! for the model's latest version instead. It reports it when it is newer
+//! than the one open, so no new version goes unannounced.
 
 use frep_wire::{Change, ChangeKind, ServerMessage};
 

@@ -1,10 +1,10 @@
 //! What all sessions of one server share: the count of open sessions, the
 //! pool of workers that render streamed frames, and the session settings.
 //!
-//! `AppState` has no field for it, so hubs are kept in a small registry
-//! keyed by the server's artefact service (one `Arc` per server): tests
-//! that start several servers in one process get one hub each, and a hub
-//! goes away with its server (the registry holds only a weak reference).
+//! `AppState` has no field for it. So hubs are kept in a small registry,
+//! keyed by the server's artefact service (one `Arc` per server). Tests that
+//! start several servers in one process get one hub each. A hub goes away
+//! with its server, since the registry holds only a weak reference.
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, Weak};

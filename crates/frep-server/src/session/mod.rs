@@ -1,25 +1,36 @@
 //! The studio's WebSocket session, `GET /api/session`: one socket per open
-//! studio, where the server measures the client and its link, decides how
-//! the model reaches the screen (the adaptive engine), streams mode 1
-//! frames, and pushes decisions, artefacts, progress and model changes.
+//! studio. Over it the server:
+//! - measures the client and its link;
+//! - decides how the model reaches the screen (the adaptive engine);
+//! - streams mode 1 frames;
+//! - pushes decisions, artefacts, progress and model changes.
 //!
-//! Protocol: frep-wire's `session.rs` (JSON text messages both ways;
-//! binary messages down for probe bytes and frames). Parts, one per file:
-//! [`probe`] (round trips, bandwidth), [`decide`] (the engine),
-//! [`open`] (resolve and compile), [`specs`] (the artefacts of a mode),
-//! [`deliver`] (registering, computing, progress), [`stream`] (mode 1
-//! frames), [`follow`] (other editors' saves), [`hub`] (what sessions
-//! share), `core` (one session's state and its reactions), [`wire`].
+//! Protocol: frep-wire's `session.rs`. JSON text messages go both ways;
+//! binary messages go down for probe bytes and frames. Parts, one per file:
+//! - [`probe`]: round trips, bandwidth;
+//! - [`decide`]: the engine;
+//! - [`open`]: resolve and compile;
+//! - [`specs`]: the artefacts of a mode;
+//! - [`deliver`]: registering, computing, progress;
+//! - [`stream`]: mode 1 frames;
+//! - [`follow`]: other editors' saves;
+//! - [`hub`]: what sessions share;
+//! - `core`: one session's state and its reactions;
+//! - [`wire`].
 //!
 //! Each session is one task with a tracing span (`session.id`). Its loop
-//! owns the socket and waits on four things: the client's messages, events
-//! from the session's own tasks (compiles, artefact jobs, the frame
-//! renderer) over a bounded channel, a housekeeping tick, and the server's
-//! change feed and shutdown. Reactions only change state and queue
-//! messages; the loop then writes them, so every message to the client goes
-//! through one writer. A bad message gets an `error` message, never a
-//! panic or a close; the socket closes on the client's close, a socket
-//! error, a message over `max_message_bytes`, or the server's shutdown.
+//! owns the socket and waits on four things:
+//! 1. the client's messages;
+//! 2. events from the session's own tasks (compiles, artefact jobs, the
+//!    frame renderer), over a bounded channel;
+//! 3. a housekeeping tick;
+//! 4. the server's change feed and shutdown.
+//!
+//! Reactions only change state and queue messages. The loop then writes
+//! them, so every message to the client goes through one writer. A bad
+//! message gets an `error` message, never a panic or a close. The socket
+//! closes on the client's close, a socket error, a message over
+//! `max_message_bytes`, or the server's shutdown.
 
 pub mod config;
 mod core;
@@ -174,7 +185,8 @@ async fn serve(
 }
 
 /// A session id: the session's number on this server and 8 hex digits of
-/// the time (unique within a server, hard to guess across restarts).
+/// the time. It is unique within a server, and hard to guess across
+/// restarts.
 fn session_id(number: usize) -> String {
     let nanos = std::time::SystemTime::now()
         .duration_since(std::time::UNIX_EPOCH)

@@ -2,11 +2,12 @@
 //!
 //! `open` names a stored version (`modelId`, `version`) or carries a
 //! source (unsaved, or edited on top of `modelId`), with parameter values.
-//! The source is compiled off the async threads at its default parameters
-//! (so the model box, and with it the camera, stays put while a slider is
-//! dragged) through the server's compile cache; the session's last
-//! compiled model is reused when the source is the same, so a parameter
-//! edit costs no compile.
+//! - The source is compiled off the async threads, through the server's
+//!   compile cache.
+//! - It is compiled at its default parameters. So the model box, and with
+//!   it the camera, stays put while a slider is dragged.
+//! - The session's last compiled model is reused when the source is the
+//!   same, so a parameter edit costs no compile.
 
 use std::sync::Arc;
 

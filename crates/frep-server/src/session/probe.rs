@@ -1,22 +1,26 @@
 //! Measuring the link to the client on its own socket: round trips and
 //! bandwidth.
 //!
-//! Round trip: a `ping` every `ping_ms`; its `pong` gives one sample (send
-//! to answer, server clock); the estimate is the median of the last
-//! `rtt_window` samples.
+//! Round trip: a `ping` every `ping_ms`. Its `pong` gives one sample, from
+//! send to answer on the server's clock. The estimate is the median of the
+//! last `rtt_window` samples.
 //!
-//! Bandwidth: a round of probes of growing size (`probe_sizes`, random
-//! bytes so no compression helps), one at a time, each preceded by a ping
-//! so the client can time the transfer from the ping's arrival to the
-//! probe's (its `clientMs`). A probe's transfer time is the client's figure
-//! when it gave one (it excludes the trip back), else the server's time
-//! from sending to the `probeDone` less one round trip (the first byte's
-//! trip out and the answer's trip back). The round's bandwidth is its bytes
-//! over the sum of its transfer times, so the largest probes weigh most.
-//! A round stops after its sizes, `probe_round_bytes`, or `probe_budget_ms`.
-//! Rounds repeat every `reprobe_ms`, and sooner (never within
-//! `reprobe_min_ms`) when acknowledged frames imply a throughput far under
-//! the estimate: the link changed.
+//! Bandwidth: a round of probes of growing size (`probe_sizes`).
+//! - Probes are random bytes, so no compression helps. They go one at a
+//!   time.
+//! - Each is preceded by a ping. The client can then time the transfer
+//!   from the ping's arrival to the probe's (its `clientMs`).
+//! - A probe's transfer time is the client's figure when it gave one, which
+//!   excludes the trip back.
+//! - Else it is the server's time from sending to the `probeDone`, less one
+//!   round trip: the first byte's trip out and the answer's trip back.
+//! - The round's bandwidth is its bytes over the sum of its transfer times,
+//!   so the largest probes weigh most.
+//! - A round stops after its sizes, `probe_round_bytes`, or
+//!   `probe_budget_ms`.
+//! - Rounds repeat every `reprobe_ms`. They come sooner (never within
+//!   `reprobe_min_ms`) when acknowledged frames imply a throughput far under
+//!   the estimate: the link changed.
 
 use std::collections::{HashMap, VecDeque};
 use std::time::{Duration, Instant};
@@ -229,8 +233,8 @@ impl Prober {
         let transfer = if client_ms.is_finite() && client_ms > 0.0 && client_ms <= server_ms {
             client_ms
         } else {
-            // Without the client's figure the server's time less a round
-            // trip, but never less than half of it: the rtt is a median and
+            // Without the client's figure, the server's time less a round
+            // trip. But never less than half of it: the rtt is a median and
             // can exceed this one trip.
             (server_ms - self.rtt_ms()).max(server_ms * 0.5)
         };
