@@ -1,10 +1,11 @@
 //! `frep mesh`: polygonize a model and write the mesh.
 //!
-//! The box: `--bounds` (hfp's `-b` forms: `v`, `min,max`, `xs,ys,zs`, `x0,y0,z0,x1,y1,z1`),
-//! else the model file's `-- bounds: x0,y0,z0,x1,y1,z1` comment line, else an automatic
-//! extent found by interval arithmetic (cubes ±1, ±2, ±4, … ±1024 until the solid lies
-//! strictly inside one, then tightened and grown by 5 %), else hfp's ±10 (an unbounded
-//! solid, or none at all).
+//! The box, the first of:
+//! 1. `--bounds`, in hfp's `-b` forms: `v`, `min,max`, `xs,ys,zs`, `x0,y0,z0,x1,y1,z1`;
+//! 2. the model file's `-- bounds: x0,y0,z0,x1,y1,z1` comment line;
+//! 3. an automatic extent found by interval arithmetic. Cubes ±1, ±2, ±4, … ±1024 are tried
+//!    until the solid lies strictly inside one; the box is then tightened and grown by 5 %;
+//! 4. hfp's ±10, for an unbounded solid or none at all.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};

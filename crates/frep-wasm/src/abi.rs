@@ -129,10 +129,10 @@ pub extern "C" fn frep_result_len() -> usize {
     with(|s| s.result.len())
 }
 
-/// Compiles a source (UTF-8) with JSON options ([`CompileRequest`]); the
-/// result is the [`crate::kernel::Compiled`] JSON. Returns the handle, 0
-/// when the model has errors (or the input is not UTF-8 / the options are
-/// bad: then the result is a JSON `{"ok":false,"error":…}`).
+/// Compiles a source (UTF-8) with JSON options ([`CompileRequest`]). The
+/// result is the [`crate::kernel::Compiled`] JSON. Returns the handle, or 0
+/// when the model has errors. It is also 0 when the input is not UTF-8 or
+/// the options are bad; the result is then a JSON `{"ok":false,"error":…}`.
 ///
 /// # Safety
 /// The buffers as in the crate docs (from `frep_alloc`).

@@ -2,10 +2,12 @@
 //! over one buffer, no parsing.
 //!
 //! Layout (little-endian, every section 4-byte aligned):
-//! `u32 magic "FRM1"`, `u32 vertices`, `u32 triangles`, `u32 flags`
-//! (bit 0: colours present, bit 1: normals present), then `f32` positions
-//! `[3·vertices]`, normals `[3·vertices]` (when present), colours
-//! `[3·vertices]` (when present), `u32` indices `[3·triangles]`.
+//! 1. `u32 magic "FRM1"`, `u32 vertices`, `u32 triangles`, `u32 flags`
+//!    (bit 0: colours present, bit 1: normals present);
+//! 2. `f32` positions `[3·vertices]`;
+//! 3. normals `[3·vertices]`, when present;
+//! 4. colours `[3·vertices]`, when present;
+//! 5. `u32` indices `[3·triangles]`.
 
 use frep_mesh::Mesh;
 
