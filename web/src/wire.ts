@@ -435,6 +435,17 @@ zoom: number,
  */
 pan: [number, number, number], };
 
+export type SectionPlane = { 
+/**
+ * Normal, world coordinates (z up); any non-zero length (the plane is
+ * `normal · p = offset` as given).
+ */
+normal: [number, number, number], 
+/**
+ * Offset along the normal, world units (for a unit normal).
+ */
+offset: number, };
+
 export type ImageEncoding = "jpeg" | "webp" | "png";
 
 export type ExportFormat = "stl" | "obj" | "ply" | "glb" | "3mf";
@@ -459,7 +470,11 @@ format: ImageEncoding,
 /**
  * JPEG / WebP quality 1–100.
  */
-quality: number, } | { "kind": "viewSet", 
+quality: number, 
+/**
+ * A section plane cutting the model open (absent: none).
+ */
+section?: SectionPlane, } | { "kind": "viewSet", 
 /**
  * Views per ring.
  */
@@ -487,7 +502,11 @@ quality: number,
 /**
  * Field of view (`None`: orthographic).
  */
-fov: number | null, } | { "kind": "viewSetIndex", 
+fov: number | null, 
+/**
+ * A section plane cutting the model open (absent: none).
+ */
+section?: SectionPlane, } | { "kind": "viewSetIndex", 
 /**
  * Views per ring.
  */
@@ -515,7 +534,11 @@ quality: number,
 /**
  * Field of view (`None`: orthographic).
  */
-fov: number | null, } | { "kind": "mesh", 
+fov: number | null, 
+/**
+ * A section plane cutting the model open (absent: none).
+ */
+section?: SectionPlane, } | { "kind": "mesh", 
 /**
  * Octree depth (cells along the longest side: 2^depth).
  */
@@ -908,7 +931,11 @@ width: number,
 /**
  * Viewport in device pixels.
  */
-height: number, } | { "type": "frameAck", 
+height: number, 
+/**
+ * The section plane the frames cut the model by (absent: none).
+ */
+section?: SectionPlane, } | { "type": "frameAck", 
 /**
  * The frame's sequence number.
  */

@@ -32,6 +32,7 @@ fn main() {
             height: 256,
             format: ImageEncoding::Png,
             quality: 90,
+            section: None,
         };
         let t = Instant::now();
         let r = frep_artefact::compute(

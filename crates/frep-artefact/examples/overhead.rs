@@ -49,6 +49,7 @@ fn main() {
                 height: 512,
                 format: ImageEncoding::Jpeg,
                 quality: 75,
+                section: None,
             };
             let t = Instant::now();
             let r = service

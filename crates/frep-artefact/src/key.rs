@@ -95,3 +95,39 @@ pub fn export_format(f: ExportFormat) -> frep_mesh::Format {
         ExportFormat::ThreeMf => frep_mesh::Format::ThreeMf,
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use frep_wire::{CameraView, SectionPlane};
+
+    fn image(section: Option<SectionPlane>) -> ArtefactSpec {
+        ArtefactSpec::Image {
+            camera: CameraView::default(),
+            width: 64,
+            height: 48,
+            format: ImageEncoding::Png,
+            quality: 80,
+            section,
+        }
+    }
+
+    /// No plane: the key of the spec as it was before planes existed (its
+    /// JSON has no `section` field); each plane its own key.
+    #[test]
+    fn the_section_plane_is_part_of_the_key() {
+        let b = [-1.0, -1.0, -1.0, 1.0, 1.0, 1.0];
+        let plain = key("g", &b, &[], &image(None));
+        let old: ArtefactSpec = serde_json::from_str(
+            r#"{"kind":"image","camera":{"yaw":30.0,"pitch":20.0,"fov":30.0,"zoom":1.0,"pan":[0.0,0.0,0.0]},"width":64,"height":48,"format":"png","quality":80}"#,
+        )
+        .unwrap();
+        assert_eq!(key("g", &b, &[], &old), plain);
+        let cut = |normal, offset| key("g", &b, &[], &image(Some(SectionPlane { normal, offset })));
+        let a = cut([0.0, 0.0, 1.0], 0.0);
+        assert_ne!(a, plain);
+        assert_ne!(a, cut([0.0, 0.0, 1.0], 0.1));
+        assert_ne!(a, cut([0.0, 1.0, 0.0], 0.0));
+        assert_eq!(a, cut([0.0, 0.0, 1.0], 0.0));
+    }
+}

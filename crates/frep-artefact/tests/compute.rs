@@ -33,6 +33,7 @@ fn image(format: ImageEncoding) -> ArtefactSpec {
         height: 48,
         format,
         quality: 80,
+        section: None,
     }
 }
 
@@ -111,6 +112,7 @@ fn zoom_and_pan_move_the_model_in_the_picture() {
             height: 64,
             format: ImageEncoding::Png,
             quality: 80,
+            section: None,
         };
         png(&run(&c, &spec).unwrap().bytes)
     };
@@ -163,6 +165,7 @@ fn view_set_sheet_matches_its_index() {
                 format,
                 quality,
                 fov,
+                section: None,
             }
         } else {
             ArtefactSpec::ViewSet {
@@ -173,6 +176,7 @@ fn view_set_sheet_matches_its_index() {
                 format,
                 quality,
                 fov,
+                section: None,
             }
         }
     };

@@ -37,6 +37,7 @@ fn image(size: u32, yaw: f64) -> ArtefactSpec {
         height: size,
         format: ImageEncoding::Png,
         quality: 80,
+        section: None,
     }
 }
 

@@ -128,6 +128,7 @@ async fn session(n: usize, plan: std::sync::Arc<Plan>) -> Outcome {
                     moving,
                     width: plan.viewport.0,
                     height: plan.viewport.1,
+                    section: None,
                 };
                 asked.insert(yaw.to_bits(), Instant::now());
                 if asked.len() > 256 {

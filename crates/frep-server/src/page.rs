@@ -98,6 +98,7 @@ async fn card(state: &AppState, m: &ModelSummary) -> String {
         height: IMAGE_SIDE,
         format: ImageEncoding::Jpeg,
         quality: 80,
+        section: None,
     };
     match state
         .artefacts

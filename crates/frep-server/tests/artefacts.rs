@@ -27,6 +27,7 @@ fn png(width: u32, height: u32) -> ArtefactSpec {
         height,
         format: ImageEncoding::Png,
         quality: 90,
+        section: None,
     }
 }
 

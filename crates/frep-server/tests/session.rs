@@ -334,6 +334,7 @@ async fn streams_frames_of_the_latest_camera_two_in_flight() {
             moving: true,
             width: 640,
             height: 480,
+            section: None,
         };
         c.send(&cam).await;
     }
@@ -389,6 +390,7 @@ async fn streams_frames_of_the_latest_camera_two_in_flight() {
         moving: false,
         width: 640,
         height: 480,
+        section: None,
     })
     .await;
     // Moving frames already under way may come first; the still follows.

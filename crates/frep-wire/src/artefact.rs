@@ -63,6 +63,21 @@ impl Default for CameraView {
     }
 }
 
+/// A section (clipping) plane: the part of the model with
+/// `normal · p > offset` is cut away, showing the solid's inside (the cut
+/// face in the model's colour there). The studio's viewer uses the same
+/// form in every mode.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, TS)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
+#[serde(rename_all = "camelCase")]
+pub struct SectionPlane {
+    /// Normal, world coordinates (z up); any non-zero length (the plane is
+    /// `normal · p = offset` as given).
+    pub normal: [f64; 3],
+    /// Offset along the normal, world units (for a unit normal).
+    pub offset: f64,
+}
+
 /// Image encodings.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, TS)]
 #[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
@@ -113,6 +128,10 @@ pub enum ArtefactSpec {
         format: ImageEncoding,
         /// JPEG / WebP quality 1–100.
         quality: u8,
+        /// A section plane cutting the model open (absent: none).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        #[ts(optional)]
+        section: Option<SectionPlane>,
     },
     /// A view set: `views` images per ring around the model on one sprite
     /// sheet, with its index (mode 2).
@@ -132,6 +151,10 @@ pub enum ArtefactSpec {
         quality: u8,
         /// Field of view (`None`: orthographic).
         fov: Option<f64>,
+        /// A section plane cutting the model open (absent: none).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        #[ts(optional)]
+        section: Option<SectionPlane>,
     },
     /// The view set's index (JSON) for the same settings.
     #[serde(rename_all = "camelCase")]
@@ -150,6 +173,10 @@ pub enum ArtefactSpec {
         quality: u8,
         /// Field of view (`None`: orthographic).
         fov: Option<f64>,
+        /// A section plane cutting the model open (absent: none).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        #[ts(optional)]
+        section: Option<SectionPlane>,
     },
     /// A meshopt-compressed glb for the viewer (mode 3).
     #[serde(rename_all = "camelCase")]

@@ -8,7 +8,7 @@
 use serde::{Deserialize, Serialize};
 use ts_rs::TS;
 
-use crate::{ArtefactRef, CameraView, ClientReport, Decision, ImageEncoding, Mode};
+use crate::{ArtefactRef, CameraView, ClientReport, Decision, ImageEncoding, Mode, SectionPlane};
 
 /// What the client sends.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, TS)]
@@ -67,6 +67,10 @@ pub enum ClientMessage {
         width: u32,
         /// Viewport in device pixels.
         height: u32,
+        /// The section plane the frames cut the model by (absent: none).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        #[ts(optional)]
+        section: Option<SectionPlane>,
     },
     /// A streamed frame was displayed.
     #[serde(rename_all = "camelCase")]

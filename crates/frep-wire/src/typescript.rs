@@ -33,6 +33,7 @@ pub fn typescript() -> String {
         ApiError::decl(&cfg),
         ModelRef::decl(&cfg),
         CameraView::decl(&cfg),
+        SectionPlane::decl(&cfg),
         ImageEncoding::decl(&cfg),
         ExportFormat::decl(&cfg),
         ArtefactSpec::decl(&cfg),

@@ -1,10 +1,10 @@
 //! Still images: the ray caster's `render_camera` through the shared camera
 //! ([`crate::camera::camera`]), then the encoder; the same two calls as
-//! `frep render`.
+//! `frep render`. A section plane ([`section`]) cuts the model open.
 
 use frep_core::Inputs;
-use frep_render::{encode, render_camera, RenderSettings};
-use frep_wire::{CameraView, ImageEncoding};
+use frep_render::{encode, render_camera, RenderSettings, Section};
+use frep_wire::{CameraView, ImageEncoding, SectionPlane};
 
 use super::{limit, Cancel};
 use crate::camera::camera;
@@ -32,6 +32,24 @@ pub fn check_size(width: u32, height: u32, limits: &ArtefactLimits) -> Result<()
     )
 }
 
+/// Refuses a section plane the ray caster cannot use (a zero or
+/// non-finite normal, a non-finite offset).
+pub fn check_section(section: Option<&SectionPlane>) -> Result<(), ArtefactError> {
+    match section.map(|s| section_of(s).normalized()) {
+        Some(Err(e)) => Err(ArtefactError::BadRequest(e.to_string())),
+        _ => Ok(()),
+    }
+}
+
+/// The ray caster's section plane of a wire one (the same convention:
+/// the solid is kept where `normal · p <= offset`).
+pub fn section_of(s: &SectionPlane) -> Section {
+    Section {
+        normal: s.normal,
+        offset: s.offset,
+    }
+}
+
 /// The render settings of an image of `compiled` (its box, these inputs).
 pub fn settings(
     compiled: &Compiled,
@@ -39,12 +57,14 @@ pub fn settings(
     width: u32,
     height: u32,
     quality: u8,
+    section: Option<&SectionPlane>,
 ) -> RenderSettings {
     RenderSettings {
         size: (width, height),
         bounds: compiled.aabb(),
         quality: quality.clamp(1, 100),
         inputs,
+        section: section.map(section_of),
         ..Default::default()
     }
 }
@@ -59,9 +79,10 @@ pub fn image(
     height: u32,
     format: ImageEncoding,
     quality: u8,
+    section: Option<&SectionPlane>,
     cancel: &Cancel,
 ) -> Result<Vec<u8>, ArtefactError> {
-    let s = settings(compiled, inputs, width, height, quality);
+    let s = settings(compiled, inputs, width, height, quality, section);
     let cam = camera(view, &s.bounds);
     let img = render_camera(compiled.model(), &s, &cam, Some(cancel.flag()))?;
     Ok(encode(&img, image_format(format), s.quality)?)

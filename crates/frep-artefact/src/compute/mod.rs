@@ -139,9 +139,11 @@ pub fn check_limits(spec: &ArtefactSpec, limits: &ArtefactLimits) -> Result<(), 
             width,
             height,
             quality,
+            section,
             ..
         } => {
             image::check_size(*width, *height, limits)?;
+            image::check_section(section.as_ref())?;
             check_quality(*quality)
         }
         ArtefactSpec::ViewSet {
@@ -150,6 +152,7 @@ pub fn check_limits(spec: &ArtefactSpec, limits: &ArtefactLimits) -> Result<(), 
             width,
             height,
             quality,
+            section,
             ..
         }
         | ArtefactSpec::ViewSetIndex {
@@ -158,9 +161,11 @@ pub fn check_limits(spec: &ArtefactSpec, limits: &ArtefactLimits) -> Result<(), 
             width,
             height,
             quality,
+            section,
             ..
         } => {
             viewset::check(*views, elevations, *width, *height, limits)?;
+            image::check_section(section.as_ref())?;
             check_quality(*quality)
         }
         ArtefactSpec::Mesh { depth } => {
@@ -220,9 +225,18 @@ pub fn compute(
             height,
             format,
             quality,
+            section,
         } => Output::new(
             image::image(
-                compiled, inputs, camera, *width, *height, *format, *quality, cancel,
+                compiled,
+                inputs,
+                camera,
+                *width,
+                *height,
+                *format,
+                *quality,
+                section.as_ref(),
+                cancel,
             )?,
             spec,
         ),
@@ -234,6 +248,7 @@ pub fn compute(
             format,
             quality,
             fov,
+            section,
         } => {
             let set = viewset::ViewSetSpec {
                 views: *views,
@@ -243,6 +258,7 @@ pub fn compute(
                 format: *format,
                 quality: *quality,
                 fov: *fov,
+                section: *section,
             };
             Output::new(
                 viewset::sheet(compiled, inputs, &set, cancel, progress)?,

@@ -13,7 +13,7 @@ use std::sync::Mutex;
 
 use frep_core::Inputs;
 use frep_render::{encode, render_camera, render_view_set, Image, ViewSetOptions};
-use frep_wire::{ImageEncoding, ViewSetLayout};
+use frep_wire::{ImageEncoding, SectionPlane, ViewSetLayout};
 
 use super::{image, limit, Cancel, JobProgress};
 use crate::compiled::Compiled;
@@ -38,6 +38,8 @@ pub struct ViewSetSpec {
     pub quality: u8,
     /// Field of view (`None`: orthographic).
     pub fov: Option<f64>,
+    /// A section plane cutting the model open in every view.
+    pub section: Option<SectionPlane>,
 }
 
 /// The widest sprite sheet frep-render lays out in one row per ring.
@@ -116,7 +118,14 @@ pub fn sheet(
         start_yaw: l.start_yaw,
         sheet_columns: Some(l.columns),
     };
-    let settings = image::settings(compiled, inputs, spec.width, spec.height, spec.quality);
+    let settings = image::settings(
+        compiled,
+        inputs,
+        spec.width,
+        spec.height,
+        spec.quality,
+        spec.section.as_ref(),
+    );
     let total = (l.views_per_ring * l.elevations.len() as u32).max(1);
     let done = AtomicU32::new(0);
     let failed = Mutex::new(None::<ArtefactError>);

@@ -10,8 +10,9 @@ use std::time::{Duration, Instant};
 
 use axum::extract::ws::Message;
 use frep_adapt::{ImageSample, ModelStats, ServerSample};
+use frep_artefact::compute::image;
 use frep_artefact::Cancel;
-use frep_wire::{CameraView, Change, ClientMessage, Decision, Mode, ServerMessage};
+use frep_wire::{CameraView, Change, ClientMessage, Decision, Mode, SectionPlane, ServerMessage};
 use tokio::sync::{mpsc, watch, Semaphore};
 use tokio::task::JoinHandle;
 use tracing::Instrument;
@@ -43,6 +44,7 @@ pub struct Session {
     open_gen: u64,
     opening: Option<JoinHandle<()>>,
     camera: CameraView,
+    section: Option<SectionPlane>,
     moving: bool,
     viewport: (u32, u32),
     asked: Instant,
@@ -111,6 +113,7 @@ impl Session {
             open_gen: 0,
             opening: None,
             camera: CameraView::default(),
+            section: None,
             moving: false,
             viewport: (0, 0),
             asked: Instant::now(),
@@ -224,18 +227,34 @@ impl Session {
                 moving,
                 width,
                 height,
+                section,
             } => {
                 if let Err(e) = check_camera(&camera) {
                     self.error(e);
                     return;
                 }
+                if let Err(e) = image::check_section(section.as_ref()) {
+                    self.error(e.to_string());
+                    return;
+                }
+                let cut = section != self.section;
+                self.section = section;
                 self.camera = camera;
                 self.moving = moving;
                 self.viewport = (width, height);
                 self.asked = at;
                 self.camera_seen = true;
                 self.decider.activity(now);
-                self.restream();
+                let view_set = self
+                    .decider
+                    .current()
+                    .is_some_and(|d| d.mode == Mode::ViewSet);
+                if cut && view_set {
+                    // The view set of the new cut (superseding the last).
+                    self.deliver();
+                } else {
+                    self.restream();
+                }
                 None
             }
             ClientMessage::FrameAck { seq, latency_ms } => {
@@ -355,7 +374,9 @@ impl Session {
             .filter(|(_, t)| !t.is_finished())
             .map(|(k, _)| k.clone())
             .collect();
-        let (msgs, started) = self.pusher.push(&d, &o, &self.camera, &running);
+        let (msgs, started) = self
+            .pusher
+            .push(&d, &o, &self.camera, self.section, &running);
         self.outbox.extend(msgs);
         self.jobs.retain(|(_, t)| !t.is_finished());
         self.jobs.extend(started);
@@ -379,6 +400,7 @@ impl Session {
             model: o.compiled.clone(),
             params: o.params.clone(),
             camera: self.camera.clone(),
+            section: self.section,
             moving: self.moving,
             viewport: self.viewport,
             settings: d.settings.clone(),

@@ -12,7 +12,7 @@ use std::time::Duration;
 
 use frep_adapt::{ImageSample, MeshSample, ServerSample, VolumeSample};
 use frep_artefact::{ArtefactBody, Artefacts, SupersedeGroup};
-use frep_wire::{ArtefactRef, ArtefactSpec, CameraView, Decision, ServerMessage};
+use frep_wire::{ArtefactRef, ArtefactSpec, CameraView, Decision, SectionPlane, ServerMessage};
 use tokio::sync::{mpsc, Semaphore};
 
 use super::open::Opened;
@@ -49,6 +49,7 @@ impl Pusher {
         decision: &Decision,
         opened: &Opened,
         camera: &CameraView,
+        section: Option<SectionPlane>,
         running: &[String],
     ) -> (
         Vec<axum::extract::ws::Message>,
@@ -57,7 +58,7 @@ impl Pusher {
         let mut messages = Vec::new();
         let mut jobs = Vec::new();
         let limits = self.artefacts.limits().clone();
-        for (role, spec) in specs(decision, camera) {
+        for (role, spec) in specs(decision, camera, section) {
             let spec = fit(spec, &limits);
             let group = SupersedeGroup(format!("{}/{role}", self.session));
             let r = match self.artefacts.request(

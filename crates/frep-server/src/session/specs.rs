@@ -6,10 +6,15 @@
 //! (sizes scaled down with their aspect, views, depths and grids capped).
 
 use frep_artefact::ArtefactLimits;
-use frep_wire::{ArtefactSpec, CameraView, Decision, Mode};
+use frep_wire::{ArtefactSpec, CameraView, Decision, Mode, SectionPlane};
 
-/// The artefacts a mode needs, by role (module docs).
-pub fn specs(decision: &Decision, camera: &CameraView) -> Vec<(&'static str, ArtefactSpec)> {
+/// The artefacts a mode needs, by role (module docs); the images and view
+/// sets cut by the client's section plane, if any.
+pub fn specs(
+    decision: &Decision,
+    camera: &CameraView,
+    section: Option<SectionPlane>,
+) -> Vec<(&'static str, ArtefactSpec)> {
     let s = &decision.settings;
     match decision.mode {
         Mode::Still => vec![(
@@ -20,6 +25,7 @@ pub fn specs(decision: &Decision, camera: &CameraView) -> Vec<(&'static str, Art
                 height: s.height,
                 format: s.format,
                 quality: s.quality,
+                section,
             },
         )],
         Mode::ViewSet => {
@@ -37,6 +43,7 @@ pub fn specs(decision: &Decision, camera: &CameraView) -> Vec<(&'static str, Art
                         format,
                         quality,
                         fov,
+                        section,
                     },
                 ),
                 (
@@ -49,6 +56,7 @@ pub fn specs(decision: &Decision, camera: &CameraView) -> Vec<(&'static str, Art
                         format,
                         quality,
                         fov,
+                        section,
                     },
                 ),
             ]
@@ -107,6 +115,7 @@ pub fn fit(spec: ArtefactSpec, limits: &ArtefactLimits) -> ArtefactSpec {
             height,
             format,
             quality,
+            section,
         } => {
             let (width, height) = fit_size(width, height, side, pixels);
             ArtefactSpec::Image {
@@ -115,6 +124,7 @@ pub fn fit(spec: ArtefactSpec, limits: &ArtefactLimits) -> ArtefactSpec {
                 height,
                 format,
                 quality,
+                section,
             }
         }
         ArtefactSpec::ViewSet {
@@ -125,6 +135,7 @@ pub fn fit(spec: ArtefactSpec, limits: &ArtefactLimits) -> ArtefactSpec {
             format,
             quality,
             fov,
+            section,
         } => {
             let (views, width, height) = fit_views(views, &elevations, width, height, limits);
             ArtefactSpec::ViewSet {
@@ -135,6 +146,7 @@ pub fn fit(spec: ArtefactSpec, limits: &ArtefactLimits) -> ArtefactSpec {
                 format,
                 quality,
                 fov,
+                section,
             }
         }
         ArtefactSpec::ViewSetIndex {
@@ -145,6 +157,7 @@ pub fn fit(spec: ArtefactSpec, limits: &ArtefactLimits) -> ArtefactSpec {
             format,
             quality,
             fov,
+            section,
         } => {
             let (views, width, height) = fit_views(views, &elevations, width, height, limits);
             ArtefactSpec::ViewSetIndex {
@@ -155,6 +168,7 @@ pub fn fit(spec: ArtefactSpec, limits: &ArtefactLimits) -> ArtefactSpec {
                 format,
                 quality,
                 fov,
+                section,
             }
         }
         ArtefactSpec::Mesh { depth } => ArtefactSpec::Mesh {
@@ -211,6 +225,7 @@ mod tests {
             height: 1000,
             format: ImageEncoding::Jpeg,
             quality: 80,
+            section: None,
         };
         let ArtefactSpec::Image { width, height, .. } = fit(image, &limits) else {
             panic!()
@@ -225,6 +240,7 @@ mod tests {
             format: ImageEncoding::Jpeg,
             quality: 75,
             fov: None,
+            section: None,
         };
         let ArtefactSpec::ViewSet { views, width, .. } = fit(set, &limits) else {
             panic!()
@@ -239,6 +255,57 @@ mod tests {
             fit(ArtefactSpec::Slices { grid: 128 }, &limits),
             ArtefactSpec::Slices { grid: 64 }
         );
+    }
+
+    /// The client's section plane goes into the images and view sets a
+    /// mode needs, and stays through the fit to the limits.
+    #[test]
+    fn specs_carry_the_section() {
+        let mut d = frep_wire::Decision {
+            mode: Mode::Still,
+            settings: frep_wire::ModeSettings {
+                width: 100,
+                height: 100,
+                quality: 80,
+                moving_scale: 2.0,
+                moving_quality: 50,
+                format: ImageEncoding::Jpeg,
+                views: 12,
+                elevations: vec![0.0],
+                mesh_depth: 6,
+                coarse_depth: 4,
+                volume_grid: 64,
+            },
+            reason: String::new(),
+            overridden: false,
+            predictions: vec![],
+            network: frep_wire::NetworkEstimate {
+                rtt_ms: 1.0,
+                bandwidth_bps: 1e6,
+                samples: 0,
+            },
+            trigger: "connect".into(),
+            seq: 1,
+        };
+        let cut = Some(SectionPlane {
+            normal: [1.0, 0.0, 0.0],
+            offset: 0.2,
+        });
+        for mode in [Mode::Still, Mode::ViewSet] {
+            d.mode = mode;
+            let got = specs(&d, &CameraView::default(), cut);
+            assert!(!got.is_empty());
+            for (role, spec) in got {
+                let spec = fit(spec, &ArtefactLimits::default());
+                let section = match spec {
+                    ArtefactSpec::Image { section, .. }
+                    | ArtefactSpec::ViewSet { section, .. }
+                    | ArtefactSpec::ViewSetIndex { section, .. } => section,
+                    _ => panic!("{role}"),
+                };
+                assert_eq!(section, cut, "{role}");
+            }
+        }
     }
 
     #[test]
@@ -270,7 +337,7 @@ mod tests {
             seq: 1,
         };
         let roles = |m| -> Vec<&str> {
-            specs(&d(m), &CameraView::default())
+            specs(&d(m), &CameraView::default(), None)
                 .into_iter()
                 .map(|(r, _)| r)
                 .collect()

@@ -20,7 +20,7 @@ use std::time::Instant;
 
 use frep_artefact::compute::image;
 use frep_artefact::{ArtefactLimits, Cancel, Compiled};
-use frep_wire::{BinaryHeader, CameraView, ModeSettings};
+use frep_wire::{BinaryHeader, CameraView, ModeSettings, SectionPlane};
 use tokio::sync::{mpsc, watch, OwnedSemaphorePermit, Semaphore};
 
 use super::hub::Hub;
@@ -38,6 +38,8 @@ pub struct Ask {
     pub params: Arc<Vec<f64>>,
     /// The camera.
     pub camera: CameraView,
+    /// The section plane cutting the model open, if any.
+    pub section: Option<SectionPlane>,
     /// Whether the user is orbiting.
     pub moving: bool,
     /// Viewport in device pixels (0: the decision's size).
@@ -188,19 +190,11 @@ async fn render(
         .acquire_owned()
         .await
         .map_err(|_| "the frame pool is closed".to_string())?;
-    let (model, params, camera, cancel2) = (
-        ask.model.clone(),
-        ask.params.clone(),
-        ask.camera.clone(),
-        cancel.clone(),
-    );
+    let (ask2, cancel2) = (ask.clone(), cancel.clone());
     let start = Instant::now();
     let bytes = tokio::task::spawn_blocking(move || {
         let _worker = worker;
-        let inputs = model.inputs(&params);
-        image::image(
-            &model, inputs, &camera, width, height, format, quality, &cancel2,
-        )
+        frame_bytes(&ask2, (width, height, quality), &cancel2)
     })
     .await
     .map_err(|e| format!("render task failed: {e}"))?
@@ -225,6 +219,27 @@ async fn render(
     ))
 }
 
+/// The encoded picture of an ask at this size and quality: its model,
+/// parameters, camera and section plane.
+fn frame_bytes(
+    ask: &Ask,
+    (width, height, quality): (u32, u32, u8),
+    cancel: &Cancel,
+) -> Result<Vec<u8>, frep_artefact::ArtefactError> {
+    let inputs = ask.model.inputs(&ask.params);
+    image::image(
+        &ask.model,
+        inputs,
+        &ask.camera,
+        width,
+        height,
+        ask.settings.format,
+        quality,
+        ask.section.as_ref(),
+        cancel,
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -242,6 +257,7 @@ mod tests {
             model,
             params: Arc::new(Vec::new()),
             camera: CameraView::default(),
+            section: None,
             moving,
             viewport,
             settings: ModeSettings {
@@ -259,6 +275,43 @@ mod tests {
             },
             asked: Instant::now(),
         }
+    }
+
+    /// A frame of an ask with a section plane shows the cut: a plane that
+    /// keeps nothing leaves the background alone; one through the centre
+    /// changes the picture.
+    #[test]
+    fn frames_honour_the_section_plane() {
+        let cancel = Cancel::new();
+        let frame = |section| {
+            let a = Ask {
+                section,
+                ..ask(true, (64, 48))
+            };
+            frame_bytes(&a, (64, 48, 90), &cancel).unwrap()
+        };
+        let whole = frame(None);
+        let cut = frame(Some(SectionPlane {
+            normal: [-0.5, -0.866, 0.3],
+            offset: 0.0,
+        }));
+        let none = frame(Some(SectionPlane {
+            normal: [0.0, 0.0, 1.0],
+            offset: -10.0,
+        }));
+        let empty = Ask {
+            model: frep_artefact::compile(
+                "my_model(x[3], a[1]) { my_model = -1 - x[1]^2; }",
+                None,
+                &Default::default(),
+            )
+            .unwrap(),
+            ..ask(true, (64, 48))
+        };
+        let background = frame_bytes(&empty, (64, 48, 90), &cancel).unwrap();
+        assert_ne!(whole, cut);
+        assert_ne!(whole, none);
+        assert_eq!(none, background);
     }
 
     #[test]

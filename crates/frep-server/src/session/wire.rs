@@ -64,6 +64,7 @@ mod tests {
             moving: true,
             width: 10,
             height: 10,
+            section: None,
         })
         .unwrap();
         assert!(matches!(parse(&cam), Ok(ClientMessage::Camera { .. })));
