@@ -48,10 +48,10 @@ pub struct Options {
     /// Error-bounded simplification after meshing, as a fraction of the cell size.
     #[arg(long)]
     pub simplify: Option<f64>,
-    /// Adaptive dual contouring (with --method dc): blocks of 2x2x2, 4x4x4, ... cells whose
-    /// one vertex stays within this fraction of the cell size of all their crossings' tangent
-    /// planes, and whose collapse keeps the topology, become one vertex (e.g. 0.1: big polygons
-    /// on flat regions, still a closed 2-manifold).
+    /// Adaptive dual contouring (with --method dc): blocks of 2x2x2, 4x4x4, ... cells become one
+    /// vertex where their collapse keeps the topology. That vertex must stay within this
+    /// fraction of the cell size of all their crossings' tangent planes. E.g. 0.1: big polygons
+    /// on flat regions, still a closed 2-manifold.
     #[arg(long)]
     pub adaptive: Option<f64>,
     /// No progress bar or box report.
