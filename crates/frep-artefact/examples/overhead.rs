@@ -1,7 +1,10 @@
-//! What the service adds to the command line's time: a 512² JPEG of each
-//! model given, rendered the CLI's way (`render_camera` + `encode`) and
-//! through `Artefacts::get` (a new key each round: another yaw), medians of
-//! alternating rounds; and a cached `get`.
+//! What the service adds to the command line's time. Each model given gets a
+//! 512² JPEG, timed three ways:
+//! - rendered the CLI's way (`render_camera` + `encode`);
+//! - through `Artefacts::get`, with a new key each round (another yaw);
+//! - through a cached `get`.
+//!
+//! The first two are medians of alternating rounds.
 //! `cargo run --release -p frep-artefact --example overhead -- FILES...`
 
 use std::time::Instant;

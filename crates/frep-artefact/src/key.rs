@@ -1,11 +1,16 @@
-//! Content addresses: an artefact's key is BLAKE3 over a canonical
-//! serialization of what determines its bytes — the graph hash, the model
-//! box, the parameter values (defaults filled in) and the spec — so the same
-//! request always has the same key and a different one never does.
+//! Content addresses. An artefact's key is BLAKE3 over a canonical
+//! serialization of what determines its bytes:
+//! - the graph hash;
+//! - the model box;
+//! - the parameter values, defaults filled in;
+//! - the spec.
 //!
-//! Floats are hashed by their bits (`-0.0` and `0.0` differ; harmless: two
-//! keys for one picture). The spec is hashed as its JSON, whose field order
-//! is the struct's, fixed at compile time.
+//! So the same request always has the same key, and a different one never
+//! does.
+//!
+//! Floats are hashed by their bits. `-0.0` and `0.0` differ, which is
+//! harmless: two keys for one picture. The spec is hashed as its JSON, whose
+//! field order is the struct's, fixed at compile time.
 
 use frep_wire::{ArtefactSpec, ExportFormat, ImageEncoding};
 
@@ -27,8 +32,8 @@ pub fn key(graph_hash: &str, bounds: &[f64; 6], params: &[f64], spec: &ArtefactS
     for p in params {
         h.update(&p.to_bits().to_le_bytes());
     }
-    // Serializing a plain data enum to JSON cannot fail (no maps with
-    // non-string keys, no custom serializers); an empty string would still
+    // Serializing a plain data enum to JSON cannot fail: no maps with
+    // non-string keys, no custom serializers. An empty string would still
     // give a key that differs per kind through the graph hash.
     h.update(serde_json::to_string(spec).unwrap_or_default().as_bytes());
     h.finalize().to_hex().to_string()

@@ -2,19 +2,26 @@
 //! at once against one in-process server, on loopback only.
 //!
 //! `cargo bench -p frep-server --bench load`. It starts a server on
-//! 127.0.0.1:0 with its data in a temporary folder, opens
-//! `FREP_LOAD_SESSIONS` (100) sessions at once, and each: says hello (no
-//! WebGL2), asks for mode 1 (server frames), opens the example model
-//! `FREP_LOAD_MODEL` (`sphere`), then for `FREP_LOAD_SECS` (15) seconds
-//! sends camera moves at `FREP_LOAD_HZ` (15) per second, stops moving now
-//! and then (a full-quality still), edits the parameter every
-//! `FREP_LOAD_EDIT_MS` (2000) ms, and acknowledges every frame. The frame
-//! latency is the time from sending a camera to receiving the frame that
-//! shows it (cameras skipped by the server have none). It then closes
-//! every session, stops the server and prints p50/p99 latency, frames per
-//! second and the error count (server `error` messages, socket failures,
-//! sessions that saw no frame). It stops by itself: the run is bounded by
-//! its duration plus `FREP_LOAD_GRACE_SECS` (30).
+//! 127.0.0.1:0 with its data in a temporary folder. It opens
+//! `FREP_LOAD_SESSIONS` (100) sessions at once, and each:
+//! 1. says hello (no WebGL2);
+//! 2. asks for mode 1 (server frames);
+//! 3. opens the example model `FREP_LOAD_MODEL` (`sphere`);
+//! 4. for `FREP_LOAD_SECS` (15) seconds, sends camera moves at
+//!    `FREP_LOAD_HZ` (15) per second. It stops moving now and then, for a
+//!    full-quality still. It edits the parameter every `FREP_LOAD_EDIT_MS`
+//!    (2000) ms, and acknowledges every frame.
+//!
+//! The frame latency is the time from sending a camera to receiving the
+//! frame that shows it. Cameras skipped by the server have none. The bench
+//! then closes every session, stops the server, and prints:
+//! - p50/p99 latency;
+//! - frames per second;
+//! - the error count: server `error` messages, socket failures, sessions
+//!   that saw no frame.
+//!
+//! It stops by itself: the run is bounded by its duration plus
+//! `FREP_LOAD_GRACE_SECS` (30).
 
 use std::collections::HashMap;
 use std::time::{Duration, Instant};

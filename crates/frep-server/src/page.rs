@@ -1,13 +1,14 @@
 //! `GET /`: the server's own HTML page when no built studio is there — the
 //! models, each with a server image and download links.
 //!
-//! For each model (newest first, at most `limits.page_models`) the latest
-//! version is compiled (cached) and one image and five exports are
-//! registered with the artefact service; the page links their immutable
-//! URLs, so the images are computed when the browser asks for them (in
-//! parallel, bounded by the worker pool) and cached after. A model that
-//! does not compile shows its first diagnostic instead. Every text is HTML
-//! escaped: names and messages come from users.
+//! The models come newest first, at most `limits.page_models`.
+//! - Each one's latest version is compiled (cached). One image and five
+//!   exports are registered with the artefact service.
+//! - The page links their immutable URLs. So the images are computed when
+//!   the browser asks for them (in parallel, bounded by the worker pool),
+//!   and cached after.
+//! - A model that does not compile shows its first diagnostic instead.
+//! - Every text is HTML escaped: names and messages come from users.
 
 use std::fmt::Write;
 

@@ -1,6 +1,6 @@
 //! Still images: the ray caster's `render_camera` through the shared camera
 //! ([`crate::camera::camera`]), then the encoder; the same two calls as
-//! `frep render`. A section plane ([`section`]) cuts the model open.
+//! `frep render`. A section plane ([`section_of`]) cuts the model open.
 
 use frep_core::Inputs;
 use frep_render::{encode, render_camera, RenderSettings, Section};

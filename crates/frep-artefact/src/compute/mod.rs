@@ -1,10 +1,11 @@
-//! Computing one artefact: synchronous, on the caller's thread (the kernels
-//! spread the work over rayon inside), each kernel called exactly as the
-//! command line calls it, so the server's time is the CLI's plus the cache.
+//! Computing one artefact, synchronously on the caller's thread. The
+//! kernels spread the work over rayon inside. Each kernel is called exactly
+//! as the command line calls it, so the server's time is the CLI's plus the
+//! cache.
 //!
-//! Every computation takes a [`Cancel`] (checked by the kernels: the ray
-//! caster before each tile, the polygonizer per octree node, the sampler
-//! per slice) and a [`JobProgress`] it reports into.
+//! Every computation takes a [`Cancel`] and a [`JobProgress`] it reports
+//! into. The kernels check the cancel: the ray caster before each tile, the
+//! polygonizer per octree node, the sampler per slice.
 
 pub mod export;
 pub mod image;

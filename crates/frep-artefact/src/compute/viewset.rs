@@ -1,12 +1,13 @@
-//! View sets: `views` renders per ring around the model on one sprite sheet
-//! (the ray caster's `render_view_set`, as `frep render --views` calls it),
-//! and the sheet's index.
+//! View sets: `views` renders per ring around the model on one sprite sheet,
+//! and the sheet's index. The renders are the ray caster's
+//! `render_view_set`, as `frep render --views` calls it.
 //!
-//! The index is a function of the settings alone ([`layout`]): one row per
-//! ring when that fits in 16 383 pixels (WebP's limit), else a near-square
-//! grid, as frep-render lays sheets out; the sheet is rendered with those
-//! columns given explicitly, so the two always agree, and the index never
-//! waits for the renders.
+//! The index is a function of the settings alone ([`layout`]).
+//! - It has one row per ring when that fits in 16 383 pixels (WebP's
+//!   limit). Else it is a near-square grid, as frep-render lays sheets out.
+//! - The sheet is rendered with those columns given explicitly, so the two
+//!   always agree.
+//! - The index never waits for the renders.
 
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::Mutex;

@@ -1,10 +1,13 @@
-//! Delivering a decision's artefacts: each is registered with the artefact
-//! service ([`Artefacts::request`], grouped per session and role so a
-//! newer request supersedes the older job) and pushed as an `artefact`
-//! message. The session then computes those not ready (one of the
-//! client's `jobs_per_client` places each; without a free place the
-//! client's own GET computes it, joining nothing), pushes `progress` while
-//! they run, and hands the engine their measured cost.
+//! Delivering a decision's artefacts.
+//! 1. Each is registered with the artefact service ([`Artefacts::request`]).
+//!    Requests are grouped per session and role, so a newer request
+//!    supersedes the older job.
+//! 2. Each is pushed as an `artefact` message.
+//! 3. The session computes those not ready, each taking one of the client's
+//!    `jobs_per_client` places. Without a free place, the client's own GET
+//!    computes it, joining nothing.
+//! 4. It pushes `progress` while they run.
+//! 5. It hands the engine their measured cost.
 
 use std::net::IpAddr;
 use std::sync::Arc;

@@ -1,9 +1,14 @@
-//! The artefacts a delivery mode needs, by role, within the server's
-//! limits: `image` (mode 1's first display), `viewSetIndex` + `viewSet`
-//! (2), `meshCoarse` + `mesh` (3), `shader` (4a), `slices` (volume); mode
-//! 4b needs none (the browser polygonizes the source it has). The engine
-//! does not know the server's limits, so each spec is brought within them
-//! (sizes scaled down with their aspect, views, depths and grids capped).
+//! The artefacts a delivery mode needs, by role, within the server's limits:
+//! - `image`: mode 1's first display;
+//! - `viewSetIndex` + `viewSet`: mode 2;
+//! - `meshCoarse` + `mesh`: mode 3;
+//! - `shader`: mode 4a;
+//! - `slices`: volume;
+//! - none for mode 4b: the browser polygonizes the source it has.
+//!
+//! The engine does not know the server's limits, so each spec is brought
+//! within them. Sizes are scaled down with their aspect; views, depths and
+//! grids are capped.
 
 use frep_artefact::ArtefactLimits;
 use frep_wire::{ArtefactSpec, CameraView, Decision, Mode, SectionPlane};

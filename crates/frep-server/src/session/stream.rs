@@ -1,15 +1,17 @@
 //! Mode 1 streaming: frames of the latest camera while the user orbits.
 //!
-//! The session keeps one slot, a `watch` channel holding what to show now
-//! (model, parameters, camera, whether moving, viewport, the decision's
-//! settings), each change numbered. One render loop per session takes the
-//! newest value only, so cameras that arrived during a render are skipped,
-//! never queued. A frame is in flight from the start of its render until
-//! the client's `frameAck` (or `frame_ack_timeout_ms`): at most
-//! `frames_in_flight` are, so a slow client gets fewer frames, never a
-//! backlog. Renders go through the server-wide frame pool ([`Hub::frames`])
-//! so all sessions together use a bounded number of workers; streamed
-//! frames skip the artefact cache (each camera is seen once).
+//! - The session keeps one slot, a `watch` channel holding what to show now,
+//!   each change numbered. That is the model, parameters, camera, whether
+//!   moving, viewport, and the decision's settings.
+//! - One render loop per session takes the newest value only. So cameras
+//!   that arrived during a render are skipped, never queued.
+//! - A frame is in flight from the start of its render until the client's
+//!   `frameAck` (or `frame_ack_timeout_ms`). At most `frames_in_flight` are,
+//!   so a slow client gets fewer frames, never a backlog.
+//! - Renders go through the server-wide frame pool ([`Hub::frames`]). So all
+//!   sessions together use a bounded number of workers.
+//! - Streamed frames skip the artefact cache, since each camera is seen
+//!   once.
 //!
 //! Size: the viewport, scaled down to the decision's pixel budget
 //! (`width × height`); while moving, each side is divided by `movingScale`
