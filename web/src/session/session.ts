@@ -14,7 +14,7 @@
  * override are sent again. Messages sent while closed are dropped except
  * those three (the state a new connection needs).
  */
-import type { BinaryHeader, CameraView, ClientMessage, ClientReport, Decision, Mode, ServerMessage, ArtefactRef } from '../wire';
+import type { BinaryHeader, CameraView, ClientMessage, ClientReport, Decision, Mode, ServerMessage, ArtefactRef, SectionPlane } from '../wire';
 import { Backoff, type BackoffOptions, DEFAULT_BACKOFF } from './backoff';
 import { parseBinary } from './binary';
 import { Emitter } from './emitter';
@@ -199,9 +199,12 @@ export class Session {
     this.send({ type: 'report', report });
   }
 
-  /** The camera moved (throttled; the latest always goes out). */
-  camera(camera: CameraView, moving: boolean, width: number, height: number): void {
-    this.pendingCamera = { type: 'camera', camera, moving, width: Math.round(width), height: Math.round(height) };
+  /**
+   * The camera moved (throttled; the latest always goes out). `section`:
+   * the plane the streamed frames cut the model by (absent: none).
+   */
+  camera(camera: CameraView, moving: boolean, width: number, height: number, section?: SectionPlane): void {
+    this.pendingCamera = { type: 'camera', camera, moving, width: Math.round(width), height: Math.round(height), ...(section ? { section } : {}) };
     this.flushCamera();
   }
 

@@ -179,7 +179,6 @@ class AdaptiveViewer implements Viewer {
     this.section = plane;
     this.current?.view.setSection(plane);
     this.pending?.view.setSection(plane);
-    this.note = plane && this.current && isServerImage(this.current.view.mode) ? 'the section needs a client-drawn mode (the image API has no section yet)' : null;
     this.updateBadge();
   }
 
@@ -556,10 +555,6 @@ function afterPaint(fn: () => void): void {
 
 function sameParams(a: number[], b: number[]): boolean {
   return a.length === b.length && a.every((v, i) => v === b[i]);
-}
-
-function isServerImage(m: Mode): boolean {
-  return m === 'still' || m === 'viewSet';
 }
 
 /** Mounts the viewer in `container`. */

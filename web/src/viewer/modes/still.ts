@@ -9,12 +9,15 @@
  * (streamed frames are not shown at rest: they carry no model identity, so
  * a late one could belong to the previous edit).
  * The previous picture stays on screen until the next one is decoded.
+ * A section plane goes with every request and camera message; a new plane
+ * asks for a new still at once (superseding the one under way).
  */
 import type { CameraView, ImageEncoding, Mode } from '../../wire';
 import { frameMime } from '../../session/binary';
 import { LatestFrames } from '../../session/latest';
 import type { ReceivedFrame } from '../../session/session';
 import { sameCamera } from '../camera';
+import { sameSection, sectionField } from '../section';
 import type { ModeContext, ModeModel, ModeModule, ModeView, SectionPlane } from '../types';
 import { decodeImage, fetchArtefact, isAbort } from './artefact';
 
@@ -39,6 +42,9 @@ class StillView implements ModeView {
   private shownCamera: CameraView | null = null;
   /** Whether the picture shown is a reduced (moving) one. */
   private shownReduced = false;
+  /** The section plane now, and the one the picture shown was cut by. */
+  private section: SectionPlane | null = null;
+  private shownSection: SectionPlane | null = null;
 
   async mount(ctx: ModeContext): Promise<void> {
     this.ctx = ctx;
@@ -69,7 +75,13 @@ class StillView implements ModeView {
     // a reduced still first, as while orbiting, and the full one once the
     // values rest. The engine learns only from full-size displays.
     const dragging = prev !== null && this.shownCamera !== null && prev.show.source === model.show.source && !sameValues(prev.show.params, model.show.params);
-    const bytes = await this.fetchStill(this.ctx.camera(), dragging, model.signal);
+    let bytes: number | null = null;
+    for (;;) {
+      const section = this.section;
+      bytes = await this.fetchStill(this.ctx.camera(), dragging, model.signal);
+      // A new plane while the first picture came: the first display is of the new one.
+      if (bytes !== null || model.signal.aborted || this.model !== model || sameSection(section, this.section)) break;
+    }
     if (bytes === null) return;
     if (!dragging) {
       this.ctx.displayed(bytes);
@@ -88,7 +100,7 @@ class StillView implements ModeView {
     const moving = this.ctx.moving();
     const size = this.ctx.size();
     if (s && s.state === 'open') {
-      s.camera(c, moving, Math.round(size.width * size.pixelRatio), Math.round(size.height * size.pixelRatio));
+      s.camera(c, moving, Math.round(size.width * size.pixelRatio), Math.round(size.height * size.pixelRatio), sectionField(this.section).section);
     } else if (moving) {
       this.movingWanted = true;
       void this.pumpMoving();
@@ -103,8 +115,16 @@ class StillView implements ModeView {
 
   setParams(): void {}
 
-  setSection(_s: SectionPlane | null): void {
-    // The image API has no section yet: the viewer reports it (see the badge).
+  setSection(s: SectionPlane | null): void {
+    if (sameSection(s, this.section)) return;
+    this.section = s;
+    if (!this.model) return;
+    // Frames streamed from now on are cut too; the still of the new cut at once.
+    const sess = this.ctx.session;
+    const size = this.ctx.size();
+    if (sess && sess.state === 'open')
+      sess.camera(this.ctx.camera(), this.ctx.moving(), Math.round(size.width * size.pixelRatio), Math.round(size.height * size.pixelRatio), sectionField(s).section);
+    this.refreshStill();
   }
 
   resize(): void {
@@ -121,7 +141,8 @@ class StillView implements ModeView {
   private refreshStill(): void {
     if (!this.model) return;
     const cam = this.ctx.camera();
-    if (this.shownCamera && !this.shownReduced && sameCamera(cam, this.shownCamera) && !this.sizeChanged()) return;
+    if (this.shownCamera && !this.shownReduced && sameCamera(cam, this.shownCamera) && sameSection(this.section, this.shownSection) && !this.sizeChanged())
+      return;
     this.stillAbort?.abort();
     const ac = new AbortController();
     this.stillAbort = ac;
@@ -163,18 +184,20 @@ class StillView implements ModeView {
     const scale = fit * (moving ? Math.max(1, st?.movingScale ?? 2) : 1);
     const format: ImageEncoding = st?.format ?? 'jpeg';
     const quality = moving ? (st?.movingQuality ?? 50) : (st?.quality ?? 85);
+    const section = this.section;
     try {
       const got = await fetchArtefact(
         this.ctx.api,
         model.show,
-        { kind: 'image', camera, width: this.pixels(width, pixelRatio, scale), height: this.pixels(height, pixelRatio, scale), format, quality },
+        { kind: 'image', camera, width: this.pixels(width, pixelRatio, scale), height: this.pixels(height, pixelRatio, scale), format, quality, ...sectionField(section) },
         signal,
         this.ctx.progress,
         (k) => this.ctx.session?.cancel(k),
       );
       const img = await decodeImage(got.blob);
-      if (signal.aborted || this.model !== model) return null;
-      this.draw(img, camera, moving);
+      // (A picture of a plane since replaced is not shown: its successor is under way.)
+      if (signal.aborted || this.model !== model || !sameSection(section, this.section)) return null;
+      this.draw(img, camera, moving, section);
       this.ctx.frame();
       return got.bytes;
     } catch (e) {
@@ -190,11 +213,11 @@ class StillView implements ModeView {
     if (!this.ctx.moving()) return false;
     const blob = new Blob([f.payload as BlobPart], { type: frameMime(f.header.format) });
     const img = await decodeImage(blob);
-    this.draw(img, f.header.camera, true);
+    this.draw(img, f.header.camera, true, this.section);
     return true;
   }
 
-  private draw(img: Drawable, camera: CameraView, reduced: boolean): void {
+  private draw(img: Drawable, camera: CameraView, reduced: boolean, section: SectionPlane | null): void {
     const { width, height, pixelRatio } = this.ctx.size();
     const w = this.pixels(width, pixelRatio, 1);
     const h = this.pixels(height, pixelRatio, 1);
@@ -210,6 +233,8 @@ class StillView implements ModeView {
     if ('close' in img) img.close();
     this.shownCamera = camera;
     this.shownReduced = reduced;
+    this.shownSection = section;
+    this.canvas.dataset.section = section ? 'on' : 'off';
     // Whether the picture is a reduced one (tests and the bench read it).
     this.canvas.dataset.reduced = reduced ? '1' : '0';
   }

@@ -6,10 +6,13 @@
  * with no round trip. Each view frames the box as the camera does at zoom
  * 1 (the bounding sphere fills the shorter side); zoom and pan are applied
  * as a scale and a shift of that view (exact for orthographic views, close
- * for perspective ones).
+ * for perspective ones). A section plane cuts every view: a new plane asks
+ * for the view set of the new cut (superseding the one under way), and the
+ * sheet shown stays until that one is decoded.
  */
 import type { CameraView, ImageEncoding, Mode, ViewSetLayout } from '../../wire';
 import { cameraFrame, wrapDegrees } from '../camera';
+import { sameSection, sectionField } from '../section';
 import type { ModeContext, ModeModel, ModeModule, ModeView, SectionPlane } from '../types';
 import { decodeImage, fetchArtefact, isAbort } from './artefact';
 
@@ -46,6 +49,10 @@ class ViewSetView implements ModeView {
   private layout: ViewSetLayout | null = null;
   private bounds: readonly number[] = [-1, -1, -1, 1, 1, 1];
   private raf = 0;
+  private model: ModeModel | null = null;
+  private section: SectionPlane | null = null;
+  /** The request under way (a newer plane aborts it). */
+  private request: AbortController | null = null;
 
   async mount(ctx: ModeContext): Promise<void> {
     this.ctx = ctx;
@@ -56,6 +63,11 @@ class ViewSetView implements ModeView {
   }
 
   async show(model: ModeModel): Promise<void> {
+    this.model = model;
+    this.request?.abort();
+    const ac = new AbortController();
+    this.request = ac;
+    const signal = AbortSignal.any ? AbortSignal.any([ac.signal, model.signal]) : model.signal;
     const st = model.settings;
     const { width, height, pixelRatio } = this.ctx.size();
     const side = Math.max(64, Math.min(st?.width ?? 512, Math.round(Math.min(width, height) * pixelRatio)));
@@ -68,25 +80,27 @@ class ViewSetView implements ModeView {
       format,
       quality: st?.quality ?? 80,
       fov: this.ctx.camera().fov ?? null,
+      ...sectionField(this.section),
     };
     try {
       const [index, sheet] = await Promise.all([
-        fetchArtefact(this.ctx.api, model.show, { kind: 'viewSetIndex', ...common }, model.signal),
-        fetchArtefact(this.ctx.api, model.show, { kind: 'viewSet', ...common }, model.signal, this.ctx.progress, (k) =>
+        fetchArtefact(this.ctx.api, model.show, { kind: 'viewSetIndex', ...common }, signal),
+        fetchArtefact(this.ctx.api, model.show, { kind: 'viewSet', ...common }, signal, this.ctx.progress, (k) =>
           this.ctx.session?.cancel(k),
         ),
       ]);
       const layout = JSON.parse(await index.blob.text()) as ViewSetLayout;
       const img = await decodeImage(sheet.blob);
-      if (model.signal.aborted) return;
+      if (signal.aborted) return;
       if (this.sheet && 'close' in this.sheet) this.sheet.close();
       this.sheet = img;
       this.layout = layout;
       this.bounds = model.bounds;
+      this.canvas.dataset.section = common.section ? 'on' : 'off';
       this.draw();
       this.ctx.displayed(index.bytes + sheet.bytes);
     } catch (e) {
-      if (isAbort(e) || model.signal.aborted) return;
+      if (isAbort(e) || signal.aborted) return;
       throw e;
     }
   }
@@ -101,8 +115,11 @@ class ViewSetView implements ModeView {
 
   setParams(): void {}
 
-  setSection(_s: SectionPlane | null): void {
-    // View sets carry no section (the image API has none yet).
+  setSection(s: SectionPlane | null): void {
+    if (sameSection(s, this.section)) return;
+    this.section = s;
+    const model = this.model;
+    if (model && !model.signal.aborted) void this.show(model).catch(() => {});
   }
 
   resize(): void {
@@ -110,6 +127,7 @@ class ViewSetView implements ModeView {
   }
 
   dispose(): void {
+    this.request?.abort();
     if (this.raf) cancelAnimationFrame(this.raf);
     if (this.sheet && 'close' in this.sheet) this.sheet.close();
     this.canvas.remove();
