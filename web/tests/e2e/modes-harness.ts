@@ -121,13 +121,16 @@ const harness = {
     return { width: canvas.width, height: canvas.height, mask: silhouette(data, canvas.width, canvas.height, tol) };
   },
 
-  /** The server's reference render (PNG) of `source` at the viewer's camera and a size, as a silhouette. */
-  async referenceMask(source: string, params: number[], width: number, height: number, tol: number): Promise<number[]> {
+  /**
+   * The server's reference render (PNG) of `source` at the viewer's camera
+   * and a size (cut by `section` when given), as a silhouette.
+   */
+  async referenceMask(source: string, params: number[], width: number, height: number, tol: number, section?: SectionPlane | null): Promise<number[]> {
     const api = new Api('');
     const ref = await api.requestArtefact({
       model: { from: 'source', source },
       params,
-      spec: { kind: 'image', camera: viewer!.getCamera(), width, height, format: 'png', quality: 90 },
+      spec: { kind: 'image', camera: viewer!.getCamera(), width, height, format: 'png', quality: 90, ...(section ? { section } : {}) },
     });
     const blob = await api.fetchArtefact(ref);
     const img = await createImageBitmap(blob);

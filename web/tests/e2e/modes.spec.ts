@@ -159,9 +159,11 @@ async function displayMask(page: Page): Promise<{ width: number; height: number;
   return page.evaluate(([png, t]) => (window as any).frepModes.pngMask(png, t), [shot.toString('base64'), TOLERANCE] as const);
 }
 
-async function referenceMask(page: Page, params: number[], width: number, height: number): Promise<number[]> {
-  return page.evaluate(([s, p, w, h, t]) => (window as any).frepModes.referenceMask(s, p, w, h, t), [SOURCE, params, width, height, TOLERANCE] as const);
+async function referenceMask(page: Page, params: number[], width: number, height: number, section: Plane | null = null): Promise<number[]> {
+  return page.evaluate(([s, p, w, h, t, c]) => (window as any).frepModes.referenceMask(s, p, w, h, t, c), [SOURCE, params, width, height, TOLERANCE, section] as const);
 }
+
+type Plane = { normal: [number, number, number]; offset: number };
 
 function iou(a: number[], b: number[]): number {
   expect(a.length).toBe(b.length);
@@ -269,6 +271,63 @@ for (const mode of ['serverMesh', 'wasmMesh'] as const)
     expect(warm).toBeGreaterThan(200);
     await page.evaluate(() => (window as any).frepModes.setSection(null));
     await expect.poll(async () => area((await displayMask(page)).mask), { timeout: 30_000 }).toBeGreaterThan(whole * 0.95);
+  });
+
+/**
+ * Pixels of a screenshot of the viewer in the hue of the section's cut
+ * colour (orange: red well above green, green above blue), lit or not.
+ */
+async function warmPixels(page: Page): Promise<number> {
+  await page.evaluate(() => (window as any).frepModes.hideChrome(true));
+  const shot = await page.locator('[data-testid=viewer]').screenshot({ animations: 'disabled' });
+  await page.evaluate(() => (window as any).frepModes.hideChrome(false));
+  return page.evaluate(async (png) => {
+    const bytes = Uint8Array.from(atob(png), (c) => c.charCodeAt(0));
+    const img = await createImageBitmap(new Blob([bytes], { type: 'image/png' }));
+    const c = document.createElement('canvas');
+    c.width = img.width;
+    c.height = img.height;
+    const g = c.getContext('2d')!;
+    g.drawImage(img, 0, 0);
+    const d = g.getImageData(0, 0, c.width, c.height).data;
+    let n = 0;
+    for (let i = 0; i < d.length; i += 4) if (d[i] > 60 && d[i] - d[i + 1] > 20 && d[i + 1] - d[i + 2] > 8) n++;
+    return n;
+  }, shot.toString('base64'));
+}
+
+// The server-drawn modes: the still (and its frames) and the view set are
+// cut on the server; what the page shows matches the server's reference
+// render of the same camera and plane.
+for (const mode of ['still', 'viewSet'] as const)
+  test(`a section cuts the server's ${mode} as the server renders the cut`, async ({ page }) => {
+    await openViewer(page, mode);
+    await displayed(page, mode);
+    const canvas = page.locator(`canvas[data-mode=${mode}]`);
+    if (mode === 'viewSet') await snapToView(page);
+    const whole = area((await displayMask(page)).mask);
+    expect(await warmPixels(page)).toBeLessThan(20);
+    // Keep x <= 0: the small sphere (at x 0.9) and half the big one go.
+    const plane: Plane = { normal: [1, 0, 0], offset: 0 };
+    await page.evaluate((p) => (window as any).frepModes.setSection(p), plane);
+    await expect(canvas).toHaveAttribute('data-section', 'on', { timeout: 90_000 });
+    if (mode === 'still') await expect(canvas).toHaveAttribute('data-reduced', '0', { timeout: 30_000 });
+    if (mode === 'viewSet') await snapToView(page);
+    const shown = await displayMask(page);
+    expect(area(shown.mask)).toBeLessThan(whole * 0.75);
+    const ref = await referenceMask(page, [0.8], shown.width, shown.height, plane);
+    const cutIou = iou(shown.mask, ref);
+    console.log(`[modes] ${mode} section: area ${area(shown.mask)} of ${whole} whole, IoU with the server's cut ${cutIou.toFixed(3)}`);
+    expect(cutIou).toBeGreaterThanOrEqual(0.95);
+    // The cut face shows, in the section colour (the sphere has no colours).
+    const warm = await warmPixels(page);
+    console.log(`[modes] ${mode} section: ${warm} pixels in the cut colour`);
+    expect(warm).toBeGreaterThan(200);
+    // No plane: the whole model again, as the server renders it.
+    await page.evaluate(() => (window as any).frepModes.setSection(null));
+    await expect(canvas).toHaveAttribute('data-section', 'off', { timeout: 90_000 });
+    if (mode === 'viewSet') await snapToView(page);
+    expect(await matchesReference(page)).toBeGreaterThanOrEqual(0.95);
   });
 
 test('orbiting in mode 1 streams frames, acked, and the resting still matches', async ({ page }) => {
