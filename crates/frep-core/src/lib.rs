@@ -18,6 +18,7 @@
 )]
 
 pub mod ast;
+pub mod cancel;
 pub mod compile;
 pub mod diag;
 pub mod eval;
@@ -29,6 +30,7 @@ pub mod ops;
 pub mod parser;
 pub mod simplify;
 
+pub use cancel::CancelToken;
 pub use compile::{CompileOptions, Model};
 pub use diag::{Diagnostic, Span};
 pub use eval::{Inputs, PointEval};

@@ -1,11 +1,11 @@
 //! What to polygonize and how ([`MeshSettings`], [`Method`], [`Resolution`],
-//! [`Limits`]), its errors ([`MeshError`]), progress ([`Progress`]) and
-//! cancellation ([`CancelToken`]).
+//! [`Limits`]), its errors ([`MeshError`]) and progress ([`Progress`]).
+//! Cancellation is frep-core's [`CancelToken`], re-exported here.
 
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
-use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 use frep_core::eval::Inputs;
+pub use frep_core::CancelToken;
 
 /// How the surface is extracted.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -151,26 +151,5 @@ impl Progress {
 
     pub(super) fn add(&self, n: u64) {
         self.done.fetch_add(n, Ordering::Relaxed);
-    }
-}
-
-/// Cancels a run from another thread (clones share the flag).
-#[derive(Clone, Debug, Default)]
-pub struct CancelToken(Arc<AtomicBool>);
-
-impl CancelToken {
-    /// A token not yet cancelled.
-    pub fn new() -> Self {
-        Self::default()
-    }
-
-    /// Asks the run to stop; it returns [`MeshError::Cancelled`] soon after.
-    pub fn cancel(&self) {
-        self.0.store(true, Ordering::Relaxed);
-    }
-
-    /// Whether [`CancelToken::cancel`] was called.
-    pub fn is_cancelled(&self) -> bool {
-        self.0.load(Ordering::Relaxed)
     }
 }
