@@ -5,8 +5,6 @@
 //! optionally what was expected. [`Diagnostic::render`] shows the source line
 //! with a caret under the offending text.
 
-use std::fmt;
-
 /// A range of the source text.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub struct Span {
@@ -36,7 +34,10 @@ impl Span {
 }
 
 /// One error in a model's source.
-#[derive(Clone, Debug, PartialEq, Eq)]
+///
+/// Its text is the message, then `, expected ...` when that is known.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("{message}{}", expected_suffix(.expected))]
 pub struct Diagnostic {
     /// Where the error is.
     pub span: Span,
@@ -108,17 +109,12 @@ impl Diagnostic {
     }
 }
 
-impl fmt::Display for Diagnostic {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(&self.message)?;
-        if let Some(e) = &self.expected {
-            write!(f, ", expected {e}")?;
-        }
-        Ok(())
-    }
+/// `, expected X` when `X` is known, else nothing.
+fn expected_suffix(expected: &Option<String>) -> String {
+    expected
+        .as_ref()
+        .map_or_else(String::new, |e| format!(", expected {e}"))
 }
-
-impl std::error::Error for Diagnostic {}
 
 #[cfg(test)]
 mod tests {

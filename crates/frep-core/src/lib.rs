@@ -21,6 +21,7 @@ pub mod ast;
 pub mod cancel;
 pub mod compile;
 pub mod diag;
+pub mod error;
 pub mod eval;
 pub mod graph;
 pub mod hash;

@@ -15,75 +15,10 @@
 //!
 //! The bulk evaluators (batch, interval, gradient) map every error to NaN.
 
-use std::fmt;
-
 /// HyperFun's tolerance: truth values, `=`, `/` and `^` use it.
 pub const EPS: f64 = 1e-6;
 
-/// A runtime error of the reference interpreter, reported per point.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum EvalError {
-    /// A variable read where its assignment was not executed.
-    NotInitialized,
-    /// `a / b` with `|b| < 1e-6`.
-    DivisionByZero,
-    /// `b ^ e` with `b < 0` and a non-integer `e`.
-    NegativePower,
-    /// `b ^ e` with `|b| < 1e-6` and `e <= 1e-6`.
-    ZeroPower,
-    /// `sqrt` of a negative number.
-    NegativeSqrt,
-    /// `log`/`logd` of a number `<= 0`.
-    NegativeLog,
-    /// `asin`/`acos` of a number outside `[-1, 1]`.
-    ArgumentRange,
-    /// `tan` where `|cos| < 1e-6`.
-    Tan,
-    /// An array index outside `1..=size`.
-    IndexOutOfRange,
-    /// An array with unassigned items passed to a function.
-    UnassignedItems,
-}
-
-impl EvalError {
-    /// The reference interpreter's message for this error.
-    pub fn message(self) -> &'static str {
-        match self {
-            EvalError::NotInitialized => "Not initialized variable",
-            EvalError::DivisionByZero => "Division by zero",
-            EvalError::NegativePower => "Negative value for power",
-            EvalError::ZeroPower => "Zero value in negative or zero power",
-            EvalError::NegativeSqrt => "Negative value for square root",
-            EvalError::NegativeLog => "Negative for log function",
-            EvalError::ArgumentRange => "Argument must be in range -1.0 .. +1.0",
-            EvalError::Tan => "Cannot compute tan for this argument",
-            EvalError::IndexOutOfRange => "Array index out of range",
-            EvalError::UnassignedItems => "Some items of array are unassigned",
-        }
-    }
-
-    /// Every error kind (for exhaustive tests).
-    pub const ALL: [EvalError; 10] = [
-        EvalError::NotInitialized,
-        EvalError::DivisionByZero,
-        EvalError::NegativePower,
-        EvalError::ZeroPower,
-        EvalError::NegativeSqrt,
-        EvalError::NegativeLog,
-        EvalError::ArgumentRange,
-        EvalError::Tan,
-        EvalError::IndexOutOfRange,
-        EvalError::UnassignedItems,
-    ];
-}
-
-impl fmt::Display for EvalError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.message())
-    }
-}
-
-impl std::error::Error for EvalError {}
+pub use crate::error::EvalError;
 
 /// One-argument operations.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]

@@ -72,8 +72,6 @@ mod primitives;
 mod table;
 mod transformations;
 
-use std::fmt;
-
 use crate::graph::{Graph, NodeId};
 
 /// Kind of a library function parameter.
@@ -96,23 +94,7 @@ pub enum LibArg {
     Array(Vec<NodeId>),
 }
 
-/// A compile-time error in the arguments of a call (wrong array size etc.),
-/// reported by the compiler at the span of argument `arg` (0-based).
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct LibError {
-    /// The 0-based index of the offending argument.
-    pub arg: usize,
-    /// What is wrong.
-    pub message: String,
-}
-
-impl fmt::Display for LibError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "argument {}: {}", self.arg + 1, self.message)
-    }
-}
-
-impl std::error::Error for LibError {}
+pub use crate::error::LibError;
 
 /// One library function.
 #[derive(Debug)]
