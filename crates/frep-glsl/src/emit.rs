@@ -150,58 +150,26 @@ fn unary_point(op: UnaryOp) -> &'static str {
     }
 }
 
-/// Suffix of the `iv_` / `du_` helper of a unary operation.
+/// Suffix of the `iv_` / `du_` helper of a unary operation: frep-core's
+/// name, except where one helper serves two operations or GLSL's name wins.
 fn unary_suffix(op: UnaryOp) -> &'static str {
     match op {
-        UnaryOp::Neg => "neg",
-        UnaryOp::Abs => "abs",
-        UnaryOp::Sqrt | UnaryOp::SqrtF => "sqrt",
-        UnaryOp::Exp => "exp",
-        UnaryOp::Log => "log",
-        UnaryOp::Logd => "logd",
-        UnaryOp::Sin => "sin",
-        UnaryOp::Cos => "cos",
-        UnaryOp::Tan => "tan",
-        UnaryOp::Asin => "asin",
-        UnaryOp::Acos => "acos",
-        UnaryOp::Atan => "atan",
-        UnaryOp::Sinh => "sinh",
-        UnaryOp::Cosh => "cosh",
-        UnaryOp::Tanh => "tanh",
-        UnaryOp::Ceil => "ceil",
-        UnaryOp::Floor => "floor",
+        // Checked and IEEE sqrt share one helper: the bulk semantics map
+        // errors to NaN anyway.
+        UnaryOp::SqrtF => "sqrt",
         UnaryOp::Trunc => "trunc",
-        UnaryOp::Frac => "frac",
-        UnaryOp::Not => "not",
-        UnaryOp::RoundHalfUp => "round",
+        _ => op.name(),
     }
 }
 
-/// Suffix of the `hf_` / `iv_` / `du_` helper of a binary operation.
+/// Suffix of the `hf_` / `iv_` / `du_` helper of a binary operation:
+/// frep-core's name, with the R-functions shortened.
 fn binary_suffix(op: BinaryOp) -> &'static str {
     match op {
-        BinaryOp::Add => "add",
-        BinaryOp::Sub => "sub",
-        BinaryOp::Mul => "mul",
-        BinaryOp::Div => "div",
-        BinaryOp::DivF => "divf",
-        BinaryOp::Pow => "pow",
-        BinaryOp::PowF => "powf",
-        BinaryOp::Min => "min",
-        BinaryOp::Max => "max",
-        BinaryOp::Atan2 => "atan2",
-        BinaryOp::Mod => "mod",
         BinaryOp::RUnion => "ru",
         BinaryOp::RInter => "ri",
         BinaryOp::RDiff => "rd",
-        BinaryOp::Lt => "lt",
-        BinaryOp::Gt => "gt",
-        BinaryOp::Le => "le",
-        BinaryOp::Ge => "ge",
-        BinaryOp::Eq => "eq",
-        BinaryOp::Ne => "ne",
-        BinaryOp::And => "and",
-        BinaryOp::Or => "or",
+        _ => op.name(),
     }
 }
 
