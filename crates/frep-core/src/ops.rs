@@ -20,6 +20,61 @@ pub const EPS: f64 = 1e-6;
 
 pub use crate::error::EvalError;
 
+/// Calls `$m!` with the name of every [`UnaryOp`] variant, in order.
+///
+/// This is the one list of unary operations. The evaluators stamp out one
+/// loop per operation with it, so that each loop inlines its own lane
+/// function; a new variant missing here fails to compile there.
+macro_rules! unary_ops {
+    ($m:ident) => {
+        $m!(
+            Neg,
+            Abs,
+            Sqrt,
+            SqrtF,
+            Exp,
+            Log,
+            Logd,
+            Sin,
+            Cos,
+            Tan,
+            Asin,
+            Acos,
+            Atan,
+            Sinh,
+            Cosh,
+            Tanh,
+            Ceil,
+            Floor,
+            Trunc,
+            Frac,
+            Not,
+            RoundHalfUp
+        )
+    };
+}
+pub(crate) use unary_ops;
+
+/// Calls `$m!` with the name of every [`BinaryOp`] variant, in order (the
+/// one list of binary operations, as [`unary_ops`] is of unary ones).
+macro_rules! binary_ops {
+    ($m:ident) => {
+        $m!(
+            Add, Sub, Mul, Div, DivF, Pow, PowF, Min, Max, Atan2, Mod, RUnion, RInter, RDiff, Lt,
+            Gt, Le, Ge, Eq, Ne, And, Or
+        )
+    };
+}
+pub(crate) use binary_ops;
+
+macro_rules! unary_array {
+    ($($v:ident),*) => { [$(UnaryOp::$v),*] };
+}
+
+macro_rules! binary_array {
+    ($($v:ident),*) => { [$(BinaryOp::$v),*] };
+}
+
 /// One-argument operations.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum UnaryOp {
@@ -71,30 +126,7 @@ pub enum UnaryOp {
 
 impl UnaryOp {
     /// Every unary operation (for exhaustive tests).
-    pub const ALL: [UnaryOp; 22] = [
-        UnaryOp::Neg,
-        UnaryOp::Abs,
-        UnaryOp::Sqrt,
-        UnaryOp::SqrtF,
-        UnaryOp::Exp,
-        UnaryOp::Log,
-        UnaryOp::Logd,
-        UnaryOp::Sin,
-        UnaryOp::Cos,
-        UnaryOp::Tan,
-        UnaryOp::Asin,
-        UnaryOp::Acos,
-        UnaryOp::Atan,
-        UnaryOp::Sinh,
-        UnaryOp::Cosh,
-        UnaryOp::Tanh,
-        UnaryOp::Ceil,
-        UnaryOp::Floor,
-        UnaryOp::Trunc,
-        UnaryOp::Frac,
-        UnaryOp::Not,
-        UnaryOp::RoundHalfUp,
-    ];
+    pub const ALL: [UnaryOp; 22] = unary_ops!(unary_array);
 
     /// Whether some argument makes this operation a runtime error.
     pub fn fallible(self) -> bool {
@@ -189,30 +221,7 @@ pub enum BinaryOp {
 
 impl BinaryOp {
     /// Every binary operation (for exhaustive tests).
-    pub const ALL: [BinaryOp; 22] = [
-        BinaryOp::Add,
-        BinaryOp::Sub,
-        BinaryOp::Mul,
-        BinaryOp::Div,
-        BinaryOp::DivF,
-        BinaryOp::Pow,
-        BinaryOp::PowF,
-        BinaryOp::Min,
-        BinaryOp::Max,
-        BinaryOp::Atan2,
-        BinaryOp::Mod,
-        BinaryOp::RUnion,
-        BinaryOp::RInter,
-        BinaryOp::RDiff,
-        BinaryOp::Lt,
-        BinaryOp::Gt,
-        BinaryOp::Le,
-        BinaryOp::Ge,
-        BinaryOp::Eq,
-        BinaryOp::Ne,
-        BinaryOp::And,
-        BinaryOp::Or,
-    ];
+    pub const ALL: [BinaryOp; 22] = binary_ops!(binary_array);
 
     /// Whether some arguments make this operation a runtime error.
     pub fn fallible(self) -> bool {

@@ -51,7 +51,7 @@ pub use grad::GradRegs;
 use super::simd_math as sm;
 use super::Inputs;
 use crate::graph::{Node, NodeId, Tape};
-use crate::ops::{self, BinaryOp, BlendOp, UnaryOp, EPS};
+use crate::ops::{self, binary_ops, unary_ops, BinaryOp, BlendOp, UnaryOp, EPS};
 
 /// Number of points per block.
 pub const LANES: usize = 128;
@@ -748,15 +748,15 @@ fn binary_kernel(op: BinaryOp, d: &mut [f64], a: impl Operand, b: impl Operand) 
             }
         };
     }
-    each!(
-        Add, Sub, Mul, Div, DivF, Pow, PowF, Min, Max, Atan2, Mod, RUnion, RInter, RDiff, Lt, Gt,
-        Le, Ge, Eq, Ne, And, Or
-    );
+    binary_ops!(each);
 }
 
 fn unary_kernel(op: UnaryOp, d: &mut [f64], a: &[f64], trig: Trig) {
     macro_rules! each {
         ($($v:ident),*) => {
+            // Sin, Cos and Tan have slice kernels of their own: their
+            // stamped-out arms below never run.
+            #[allow(unreachable_patterns)]
             match op {
                 UnaryOp::Sin if trig == Trig::Fast => sm::sin_fast_slice(a, d),
                 UnaryOp::Cos if trig == Trig::Fast => sm::cos_fast_slice(a, d),
@@ -767,27 +767,7 @@ fn unary_kernel(op: UnaryOp, d: &mut [f64], a: &[f64], trig: Trig) {
             }
         };
     }
-    each!(
-        Neg,
-        Abs,
-        Sqrt,
-        SqrtF,
-        Exp,
-        Log,
-        Logd,
-        Asin,
-        Acos,
-        Atan,
-        Sinh,
-        Cosh,
-        Tanh,
-        Ceil,
-        Floor,
-        Trunc,
-        Frac,
-        Not,
-        RoundHalfUp
-    );
+    unary_ops!(each);
 }
 
 fn pow_int_kernel(d: &mut [f64], a: &[f64], n: i32) {

@@ -20,7 +20,7 @@ use super::{
 };
 use crate::eval::grad::{pow_factors, r_signs, unary_factor, Grad};
 use crate::eval::Inputs;
-use crate::ops::{self, BinaryOp, BlendOp, UnaryOp, EPS};
+use crate::ops::{self, binary_ops, unary_ops, BinaryOp, BlendOp, UnaryOp, EPS};
 
 /// The registers [`BatchEval::eval_grad`] works in, kept between calls by
 /// the caller (one set serves every evaluator: a thread that differentiates
@@ -335,30 +335,7 @@ fn gunary(op: UnaryOp, d: &mut GBlock, a: &GBlock, m: usize, mode: Trig) {
             }
         };
     }
-    each!(
-        Neg,
-        Abs,
-        Sqrt,
-        SqrtF,
-        Exp,
-        Log,
-        Logd,
-        Sin,
-        Cos,
-        Tan,
-        Asin,
-        Acos,
-        Atan,
-        Sinh,
-        Cosh,
-        Tanh,
-        Ceil,
-        Floor,
-        Trunc,
-        Frac,
-        Not,
-        RoundHalfUp
-    );
+    unary_ops!(each);
 }
 
 /// [`unary_factor`] as a rule (`sin` and `cos` never come here: see
@@ -385,10 +362,7 @@ fn gbinary(op: BinaryOp, d: &mut GBlock, a: &GBlock, b: &GBlock, m: usize) {
             }
         };
     }
-    each!(
-        Add, Sub, Mul, Div, DivF, Pow, PowF, Min, Max, Atan2, Mod, RUnion, RInter, RDiff, Lt, Gt,
-        Le, Ge, Eq, Ne, And, Or
-    );
+    binary_ops!(each);
 }
 
 /// The derivative rule of a binary operation at `(a, b)` with value `v`;
