@@ -42,6 +42,7 @@ fn main() {
             &Default::default(),
             &Default::default(),
             &Default::default(),
+            &Default::default(),
         );
         let render_ms = t.elapsed().as_secs_f64() * 1e3;
         let name = path.rsplit('/').next().unwrap_or(&path);

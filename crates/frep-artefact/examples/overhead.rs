@@ -10,7 +10,7 @@
 use std::time::Instant;
 
 use frep_artefact::{compile, ArtefactConfig, Artefacts, CompileLimits};
-use frep_render::{encode, render_camera, ImageFormat, RenderSettings};
+use frep_render::{encode, render_camera, CancelToken, ImageFormat, RenderSettings};
 use frep_wire::{ArtefactSpec, CameraView, ImageEncoding};
 
 fn median(mut v: Vec<f64>) -> f64 {
@@ -40,8 +40,11 @@ fn main() {
                 yaw,
                 ..Default::default()
             };
-            let img = render_camera(c.model(), &s, &s.camera(), None).expect("render");
+            let pool = service.image_pool();
+            let img = render_camera(c.model(), &s, &s.camera(), &CancelToken::new(), pool)
+                .expect("render");
             let bytes = encode(&img, ImageFormat::Jpeg, 75).expect("encode");
+            pool.recycle(img);
             cli.push(t.elapsed().as_secs_f64() * 1e3);
             let spec = ArtefactSpec::Image {
                 camera: CameraView {

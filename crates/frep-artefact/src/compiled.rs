@@ -31,10 +31,10 @@
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex, OnceLock};
 
-use frep_core::{CompileOptions, Inputs, Model, NodeId};
+use frep_core::{CancelToken, CompileOptions, Inputs, Model, NodeId};
 use frep_glsl::{shader_for_model, ShaderOptions};
 use frep_mesh::poly::bounds::{model_box, BoxOrigin};
-use frep_render::{Aabb, ModelCaster, RenderSettings};
+use frep_render::{Aabb, ImagePool, ModelCaster, RenderSettings};
 use frep_wire::{CompileSummary, Diagnostic, ParamInfo};
 
 use crate::config::CompileLimits;
@@ -214,7 +214,8 @@ fn closed_form(model: &Model, inputs: &Inputs, bounds: Aabb) -> bool {
         tile_size: 16,
         ..Default::default()
     };
-    if frep_render::render_with(&caster, &settings, &settings.camera(), None).is_err() {
+    let (cancel, pool) = (CancelToken::new(), ImagePool::new(0));
+    if frep_render::render_with(&caster, &settings, &settings.camera(), &cancel, &pool).is_err() {
         return false;
     }
     let s = caster.stats();

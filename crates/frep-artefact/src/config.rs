@@ -85,6 +85,9 @@ pub struct ArtefactConfig {
     pub max_recipes: usize,
     /// Request limits.
     pub limits: ArtefactLimits,
+    /// Bytes of spare image buffers the workers share
+    /// ([`frep_render::ImagePool`]); `0` keeps none.
+    pub image_pool_bytes: usize,
 }
 
 impl ArtefactConfig {
@@ -97,6 +100,7 @@ impl ArtefactConfig {
             queue_max: 64,
             max_recipes: 10_000,
             limits: ArtefactLimits::default(),
+            image_pool_bytes: frep_render::image::DEFAULT_REUSE,
         }
     }
 }

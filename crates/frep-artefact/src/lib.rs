@@ -47,5 +47,6 @@ pub use compute::{compute, Cancel, JobProgress, Output};
 pub use config::{ArtefactConfig, ArtefactLimits, CompileLimits};
 pub use error::ArtefactError;
 pub use frep_mesh::poly::bounds::BoxOrigin;
+pub use frep_render::ImagePool;
 pub use key::{extension, is_key, key, media_type, url};
 pub use service::{ArtefactBody, Artefacts, SupersedeGroup};

@@ -19,6 +19,7 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::{Duration, Instant};
 
 use bytes::Bytes;
+use frep_render::ImagePool;
 use frep_wire::{ArtefactRef, ArtefactSpec, VolumeLayout};
 use tokio::sync::{watch, Semaphore};
 
@@ -74,6 +75,8 @@ struct Inner {
     flights: Mutex<HashMap<String, Arc<Flight>>>,
     groups: Mutex<HashMap<SupersedeGroup, String>>,
     workers: Arc<Semaphore>,
+    /// Spare image buffers, shared by the workers.
+    pool: ImagePool,
     computations: AtomicU64,
     cancellations: AtomicU64,
 }
@@ -98,6 +101,7 @@ impl Artefacts {
         Ok(Artefacts {
             inner: Arc::new(Inner {
                 workers: Arc::new(Semaphore::new(config.workers.max(1))),
+                pool: ImagePool::new(config.image_pool_bytes),
                 config,
                 cache,
                 recipes: Mutex::new(Recipes::default()),
@@ -112,6 +116,12 @@ impl Artefacts {
     /// The request limits.
     pub fn limits(&self) -> &ArtefactLimits {
         &self.inner.config.limits
+    }
+
+    /// The spare image buffers of the workers, for other renders of the
+    /// same process (e.g. a session's frames).
+    pub fn image_pool(&self) -> &ImagePool {
+        &self.inner.pool
     }
 
     /// The key of an artefact, without registering it (parameter values
@@ -410,6 +420,7 @@ fn run(inner: &Inner, key: &str, recipe: &Recipe, flight: &Flight) -> Outcome {
         &inner.config.limits,
         &flight.cancel,
         &flight.progress,
+        &inner.pool,
     )?;
     let meta = Meta {
         media_type: out.media_type.to_string(),

@@ -4,6 +4,7 @@
 
 use frep_artefact::compute::{self, Cancel, JobProgress};
 use frep_artefact::{compile, ArtefactError, ArtefactLimits, CompileLimits, Compiled};
+use frep_render::ImagePool;
 use frep_wire::{
     ArtefactSpec, CameraView, ExportFormat, ImageEncoding, ShaderArtefact, ViewSetLayout,
 };
@@ -23,6 +24,7 @@ fn run(c: &Compiled, spec: &ArtefactSpec) -> Result<compute::Output, ArtefactErr
         &ArtefactLimits::default(),
         &Cancel::new(),
         &JobProgress::new(),
+        &ImagePool::default(),
     )
 }
 
@@ -310,7 +312,8 @@ fn limits_are_refused_before_any_work() {
         ..ArtefactLimits::default()
     };
     let refused = |spec: ArtefactSpec| {
-        compute::compute(&c, &[], &spec, &limits, &Cancel::new(), &JobProgress::new()).unwrap_err()
+        let (cancel, progress, pool) = (Cancel::new(), JobProgress::new(), ImagePool::default());
+        compute::compute(&c, &[], &spec, &limits, &cancel, &progress, &pool).unwrap_err()
     };
     assert!(matches!(
         refused(image(ImageEncoding::Png)),
@@ -346,6 +349,7 @@ fn a_cancelled_job_stops() {
         &ArtefactLimits::default(),
         &cancel,
         &JobProgress::new(),
+        &ImagePool::default(),
     );
     assert_eq!(r.unwrap_err(), ArtefactError::Cancelled);
 }

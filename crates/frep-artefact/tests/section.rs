@@ -4,6 +4,7 @@
 
 use frep_artefact::compute::{self, Cancel, JobProgress};
 use frep_artefact::{compile, ArtefactError, ArtefactLimits, CompileLimits, Compiled};
+use frep_render::ImagePool;
 use frep_wire::{ArtefactSpec, CameraView, ImageEncoding, SectionPlane};
 use std::sync::Arc;
 
@@ -21,6 +22,7 @@ fn run(c: &Compiled, spec: &ArtefactSpec) -> Result<compute::Output, ArtefactErr
         &ArtefactLimits::default(),
         &Cancel::new(),
         &JobProgress::new(),
+        &ImagePool::default(),
     )
 }
 

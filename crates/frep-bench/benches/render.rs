@@ -40,7 +40,9 @@ use frep_bench::alloc::{peak_during, Counting};
 use std::time::{Duration, Instant};
 
 use frep_core::Model;
-use frep_render::{render_camera, render_with, Camera, ModelCaster, RenderSettings};
+use frep_render::{
+    render_camera, render_with, Camera, CancelToken, ImagePool, ModelCaster, RenderSettings,
+};
 
 #[global_allocator]
 static ALLOC: Counting = Counting;
@@ -194,6 +196,8 @@ fn main() {
     // `cargo bench` passes `--bench`; a name filter may follow.
     let filter: Option<String> = std::env::args().skip(1).find(|a| !a.starts_with("--"));
     let (p1, p2) = (Args::pool(1), Args::pool(2));
+    // One image pool for all renders, as a server's worker pool owns one.
+    let (cancel, images) = (CancelToken::new(), ImagePool::default());
     let mut rows = Vec::new();
     for (file, src) in frep_bench::example_sources(filter.as_deref().unwrap_or("")) {
         let model = Model::compile(&src).expect("example compiles");
@@ -223,7 +227,8 @@ fn main() {
             let cam = turn.camera();
             // One render of ours, and its time (`time_min`).
             let render = |pool: &rayon::ThreadPool, s: &RenderSettings, c: &Camera| {
-                pool.install(|| std::hint::black_box(render_camera(&model, s, c, None).unwrap()));
+                let img = pool.install(|| render_camera(&model, s, c, &cancel, &images).unwrap());
+                images.recycle(std::hint::black_box(img));
             };
             let run = |pool: &rayon::ThreadPool, s: &RenderSettings, c: &Camera| {
                 time_min(|| render(pool, s, c))
@@ -232,7 +237,7 @@ fn main() {
             if std::env::var_os("FREP_BENCH_STATS").is_some() {
                 let caster = ModelCaster::new(&model, Default::default(), bounds);
                 let t = Instant::now();
-                p2.install(|| render_with(&caster, &turn, &cam, None).unwrap());
+                p2.install(|| render_with(&caster, &turn, &cam, &cancel, &images).unwrap());
                 eprintln!(
                     "{file} {size}² turn: {:?} {:?}",
                     t.elapsed(),
@@ -246,16 +251,15 @@ fn main() {
                 };
                 let caster = ModelCaster::new(&model, Default::default(), top.bounds);
                 let t = Instant::now();
-                p2.install(|| render_with(&caster, &top, &top_cam, None).unwrap());
+                p2.install(|| render_with(&caster, &top, &top_cam, &cancel, &images).unwrap());
                 eprintln!("{file} {size}² top: {:?} {:?}", t.elapsed(), caster.stats());
             }
             // Peak heap of one 2-thread render, beyond the image (whose
-            // bytes are new then: no dropped image's kept for it).
-            let reuse = frep_render::image_reuse();
-            frep_render::set_image_reuse(0);
-            let (img, peak) =
-                peak_during(|| p2.install(|| render_camera(&model, &turn, &cam, None).unwrap()));
-            frep_render::set_image_reuse(reuse);
+            // bytes are new then: a pool that keeps nothing).
+            let fresh = ImagePool::new(0);
+            let (img, peak) = peak_during(|| {
+                p2.install(|| render_camera(&model, &turn, &cam, &cancel, &fresh).unwrap())
+            });
             let peak_mib = (peak as f64 - img.rgba.len() as f64) / (1u64 << 20) as f64;
             drop(img);
             let (c, top_box) = frep_bench::top_view(cube);

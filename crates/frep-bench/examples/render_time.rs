@@ -15,7 +15,7 @@ use frep_bench::{example_box, example_sources, top_cube, top_view, Args};
 use std::time::{Duration, Instant};
 
 use frep_core::Model;
-use frep_render::{render_with, ModelCaster, RenderSettings};
+use frep_render::{render_with, CancelToken, ImagePool, ModelCaster, RenderSettings};
 
 #[global_allocator]
 static ALLOC: Counting = Counting;
@@ -52,6 +52,7 @@ fn main() {
         let mut best = Duration::MAX;
         let mut stats = None;
         let mut peak = 0usize;
+        let (cancel, images) = (CancelToken::new(), ImagePool::default());
         for _ in 0..reps {
             let mut caster = ModelCaster::new(&model, Default::default(), bounds);
             let knob = |k: &str| std::env::var(k).ok().and_then(|v| v.parse::<f64>().ok());
@@ -71,13 +72,14 @@ fn main() {
                 caster.fallback_depth = v as u32;
             }
             let t = Instant::now();
-            let (img, p) =
-                peak_during(|| pool.install(|| render_with(&caster, &s, &cam, None).unwrap()));
+            let (img, p) = peak_during(|| {
+                pool.install(|| render_with(&caster, &s, &cam, &cancel, &images).unwrap())
+            });
             best = best.min(t.elapsed());
             // (The first run's image bytes are new, so that the most is
             // the peak beyond them; later runs reuse them.)
             peak = peak.max(p.saturating_sub(img.rgba.len()));
-            std::hint::black_box(img);
+            images.recycle(std::hint::black_box(img));
             stats = Some(caster.stats());
         }
         print!(

@@ -8,7 +8,8 @@ use frep_core::eval::batch::BatchEval;
 use frep_core::{Inputs, Model};
 use frep_render::{
     encode, render_camera, render_view_set, sample_grid, write_slices, write_view_set, Aabb,
-    ImageFormat, ProgressivePlan, RenderSettings, SliceOptions, ViewSetOptions,
+    CancelToken, ImageFormat, ImagePool, ProgressivePlan, RenderSettings, SliceOptions,
+    ViewSetOptions,
 };
 
 use crate::bounds::{inputs, numbers};
@@ -131,6 +132,9 @@ pub fn render(args: RenderArgs) -> anyhow::Result<ExitCode> {
         inputs,
         ..Default::default()
     };
+    // Nothing cancels a command-line render; the pool lets a view set's
+    // renders reuse one another's bytes.
+    let (cancel, pool) = (CancelToken::new(), ImagePool::default());
     if let Some(n) = args.views {
         // Views are JPEG unless the folder's name ends in another image
         // extension (e.g. `views.webp/`).
@@ -154,7 +158,7 @@ pub fn render(args: RenderArgs) -> anyhow::Result<ExitCode> {
                 size: (w, h),
                 ..settings.clone()
             };
-            render_camera(&model, &s, cam, None).unwrap_or_else(|e| {
+            render_camera(&model, &s, cam, &cancel, &pool).unwrap_or_else(|e| {
                 *failed.lock().unwrap_or_else(|p| p.into_inner()) = Some(e.to_string());
                 frep_render::Image::filled(w, h, [0, 0, 0, 255])
             })
@@ -181,7 +185,7 @@ pub fn render(args: RenderArgs) -> anyhow::Result<ExitCode> {
                 size: (step.width, step.height),
                 ..settings.clone()
             };
-            let frame = render_camera(&model, &s, &cam, None)?;
+            let frame = render_camera(&model, &s, &cam, &cancel, &pool)?;
             let full = plan.to_full(&step, &frame);
             let stem = args
                 .output
@@ -192,9 +196,10 @@ pub fn render(args: RenderArgs) -> anyhow::Result<ExitCode> {
                 .output
                 .with_file_name(format!("{stem}.coarse.{}", format.extension()));
             write_image(&coarse, &encode(&full, format, settings.quality)?)?;
+            pool.recycle(frame);
         }
     }
-    let img = render_camera(&model, &settings, &cam, None)?;
+    let img = render_camera(&model, &settings, &cam, &cancel, &pool)?;
     write_image(&args.output, &encode(&img, format, settings.quality)?)?;
     Ok(ExitCode::SUCCESS)
 }

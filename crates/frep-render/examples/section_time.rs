@@ -9,7 +9,9 @@
 use std::time::{Duration, Instant};
 
 use frep_core::Model;
-use frep_render::{encode, render, Aabb, ImageFormat, RenderSettings, Section};
+use frep_render::{
+    encode, render, Aabb, CancelToken, ImageFormat, ImagePool, RenderSettings, Section,
+};
 
 fn bounds_of(src: &str) -> Aabb {
     let v: Vec<f64> = src
@@ -29,7 +31,7 @@ fn best(model: &Model, s: &RenderSettings, reps: usize) -> (Duration, frep_rende
     let mut img = None;
     for _ in 0..reps.max(1) {
         let t = Instant::now();
-        let i = render(model, s, None).expect("renders");
+        let i = render(model, s, &CancelToken::new(), &ImagePool::default()).expect("renders");
         best = best.min(t.elapsed());
         img = Some(i);
     }

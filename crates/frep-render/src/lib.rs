@@ -48,10 +48,9 @@ pub mod viewset;
 
 pub use camera::{Aabb, Camera, Frustum, Projection, Ray, RayMaker};
 pub use encode::{encode, EncodeError, ImageFormat};
+pub use frep_core::CancelToken;
 pub use golden::ascii_mask;
-pub use image::{
-    image_reuse, set_image_reuse, shade, DepthImage, Hit, HitBuffer, Image, Light, Lighting, Shader,
-};
+pub use image::{shade, DepthImage, Hit, HitBuffer, Image, ImagePool, Light, Lighting, Shader};
 pub use progressive::{upscale_nearest, ProgressivePlan, ProgressiveStep};
 pub use raycast::{
     render, render_camera, render_hits, render_with, CastStats, ModelCaster, RenderError,

@@ -8,16 +8,13 @@
 //! interval check, with the same hits; tiles around a small model found
 //! empty whole, before their rays are set up.
 
-use std::sync::atomic::AtomicBool;
-use std::sync::Arc;
-
 use frep_core::eval::batch::{BatchEval, Trig};
 use frep_core::eval::grad::GradEval;
 use frep_core::eval::Inputs;
 use frep_core::{Model, PointEval};
 use frep_render::{
-    ascii_mask, cast_tiled, render, render_hits, shade, Aabb, Camera, CastStats, HitBuffer,
-    ModelCaster, RenderError, RenderSettings,
+    ascii_mask, cast_tiled, render, render_hits, shade, Aabb, Camera, CancelToken, CastStats,
+    HitBuffer, ImagePool, ModelCaster, RenderError, RenderSettings,
 };
 
 fn example(name: &str) -> String {
@@ -71,7 +68,7 @@ fn golden(file: &str, name: &str) {
     let src = example(file);
     let model = Model::compile(&src).unwrap();
     let s = settings(bounds_of(&src), 80, 80);
-    let hits = render_hits(&model, &s, None).unwrap();
+    let hits = render_hits(&model, &s, &CancelToken::new()).unwrap();
     check_golden(name, &ascii_mask(&hits, 40, 20));
 }
 
@@ -119,7 +116,7 @@ fn thin_slab_is_visible() {
                     tile_size: 16,
                     ..Default::default()
                 };
-                let hits = render_hits(&model, &s, None).unwrap();
+                let hits = render_hits(&model, &s, &CancelToken::new()).unwrap();
                 let plate = Aabb::new([-1.0, -1.0, -half], [1.0, 1.0, half]);
                 let mut missed = 0;
                 let mut expected = 0;
@@ -200,7 +197,7 @@ fn gyroid_grazing_matches_dense_reference() {
             fov,
             ..settings(b, w, h)
         };
-        let hits = render_hits(&model, &s, None).unwrap();
+        let hits = render_hits(&model, &s, &CancelToken::new()).unwrap();
         let reference = reference_mask(&model, &s.camera(), &b, w, h);
         let got = mask(&hits);
         let diff = got.iter().zip(&reference).filter(|(a, b)| a != b).count();
@@ -224,7 +221,7 @@ fn examples_match_dense_reference() {
         let src = example(file);
         let model = Model::compile(&src).unwrap();
         let s = settings(bounds_of(&src), 80, 80);
-        let hits = render_hits(&model, &s, None).unwrap();
+        let hits = render_hits(&model, &s, &CancelToken::new()).unwrap();
         let reference = reference_mask(&model, &s.camera(), &s.bounds, 80, 80);
         let got = mask(&hits);
         let missed = got
@@ -251,7 +248,7 @@ fn scaled_fields_give_identical_masks() {
         let src = example(file);
         let b = bounds_of(&src);
         let base_model = Model::compile(&src).unwrap();
-        let base = render_hits(&base_model, &settings(b, 48, 40), None).unwrap();
+        let base = render_hits(&base_model, &settings(b, 48, 40), &CancelToken::new()).unwrap();
         // Wrap the body: my_model = k * (old value).
         let (decl, call) = if base_model.has_attributes {
             (format!(", s[{}]", base_model.s_dim), ", s")
@@ -265,7 +262,7 @@ fn scaled_fields_give_identical_masks() {
                     "\nmy_model(x[3], a[{a}]{decl})\n{{\n  my_model = {k} * inner_model(x, a{call});\n}}\n"
                 );
             let model = Model::compile(&scaled).unwrap_or_else(|d| panic!("{file}: {d:?}"));
-            let hits = render_hits(&model, &settings(b, 48, 40), None).unwrap();
+            let hits = render_hits(&model, &settings(b, 48, 40), &CancelToken::new()).unwrap();
             assert_eq!(mask(&hits), mask(&base), "{file} scaled by {k}");
         }
     }
@@ -279,7 +276,7 @@ fn zero_gradient_surface() {
     let model = Model::compile(src).unwrap();
     let b = Aabb::new([-1.0; 3], [1.0; 3]);
     let s = settings(b, 48, 48);
-    let hits = render_hits(&model, &s, None).unwrap();
+    let hits = render_hits(&model, &s, &CancelToken::new()).unwrap();
     let reference = frep_render::synthetic::sphere_hits(&s.camera(), 48, 48, [0.0; 3], 0.8, None);
     let diff = mask(&hits)
         .iter()
@@ -303,15 +300,18 @@ fn zero_gradient_surface() {
 fn cancel_stops_the_render() {
     let src = example("m3_gyroid.hf");
     let model = Model::compile(&src).unwrap();
-    let flag = Arc::new(AtomicBool::new(true));
+    let (cancel, pool) = (CancelToken::new(), ImagePool::default());
+    cancel.clone().cancel();
     let s = settings(bounds_of(&src), 64, 64);
-    assert_eq!(render(&model, &s, Some(&flag)), Err(RenderError::Cancelled));
     assert_eq!(
-        render_hits(&model, &s, Some(&flag)).err(),
+        render(&model, &s, &cancel, &pool),
+        Err(RenderError::Cancelled)
+    );
+    assert_eq!(
+        render_hits(&model, &s, &cancel).err(),
         Some(RenderError::Cancelled)
     );
-    flag.store(false, std::sync::atomic::Ordering::Relaxed);
-    assert!(render(&model, &s, Some(&flag)).is_ok());
+    assert!(render(&model, &s, &CancelToken::new(), &pool).is_ok());
 }
 
 #[test]
@@ -319,11 +319,11 @@ fn size_limits() {
     let model = Model::compile(&example("m1_sphere.hf")).unwrap();
     let mut s = settings(Aabb::new([-1.0; 3], [1.0; 3]), 0, 10);
     assert!(matches!(
-        render(&model, &s, None),
+        render(&model, &s, &CancelToken::new(), &ImagePool::default()),
         Err(RenderError::BadSize { .. })
     ));
     s.size = (20_000, 10);
-    assert!(render(&model, &s, None).is_err());
+    assert!(render(&model, &s, &CancelToken::new(), &ImagePool::default()).is_err());
 }
 
 /// The Android robot is green (#A4C639) with white eyes.
@@ -334,7 +334,7 @@ fn attribute_colours() {
     let mut s = settings(bounds_of(&src), 64, 64);
     s.yaw = 0.0;
     s.pitch = 10.0;
-    let hits = render_hits(&model, &s, None).unwrap();
+    let hits = render_hits(&model, &s, &CancelToken::new()).unwrap();
     let all: Vec<_> = hits.hits.iter().flatten().collect();
     assert!(all.len() > 300);
     let green = all
@@ -358,7 +358,7 @@ fn attribute_colours() {
         white += (want == [1.0; 3]) as usize;
     }
     assert!(white > 3, "{white} white hits");
-    let img = render(&model, &s, None).unwrap();
+    let img = render(&model, &s, &CancelToken::new(), &ImagePool::default()).unwrap();
     let (mut g, mut n) = (0, 0);
     for (i, h) in hits.hits.iter().enumerate() {
         if h.is_some() {
@@ -377,8 +377,8 @@ fn render_equals_shaded_hits() {
     let model = Model::compile(&src).unwrap();
     let mut s = settings(bounds_of(&src), 40, 30);
     s.ao = true;
-    let img = render(&model, &s, None).unwrap();
-    let hits = render_hits(&model, &s, None).unwrap();
+    let img = render(&model, &s, &CancelToken::new(), &ImagePool::default()).unwrap();
+    let hits = render_hits(&model, &s, &CancelToken::new()).unwrap();
     assert!(hits.ao.is_some());
     assert_eq!(img, frep_render::shade(&hits, &s.lighting));
 }
@@ -417,7 +417,7 @@ fn sphere_normals_are_radial() {
     let model = Model::compile(&example("m1_sphere.hf")).unwrap();
     for (size, worst_deg, mean_deg) in [(40u32, 1e-3f64, 5e-4f64), (200, 1e-3, 5e-4)] {
         let s = settings(Aabb::new([-1.0; 3], [1.0; 3]), size, size);
-        let hits = render_hits(&model, &s, None).unwrap();
+        let hits = render_hits(&model, &s, &CancelToken::new()).unwrap();
         let (mut worst, mut sum, mut count) = (0.0f64, 0.0, 0);
         for h in hits.hits.iter().flatten() {
             let (n, p) = (h.normal, h.position);
@@ -463,7 +463,7 @@ fn hits_lie_on_the_surface() {
                 ..settings(b, w, h)
             };
             let cam = s.camera();
-            let hits = render_hits(&model, &s, None).unwrap();
+            let hits = render_hits(&model, &s, &CancelToken::new()).unwrap();
             let mut dist = Vec::new();
             for hit in hits.hits.iter().flatten() {
                 let p = hit.position;
@@ -549,7 +549,7 @@ fn box_cut_solids_hit_at_their_first_crossing() {
                 tile_size: 32,
                 ..settings(b, w, h)
             };
-            let hits = render_hits(&model, &s, None).unwrap();
+            let hits = render_hits(&model, &s, &CancelToken::new()).unwrap();
             let cam = s.camera();
             let reference = reference_depths(&model, &cam, &b, w, h);
             let mut bad = Vec::new();
@@ -700,8 +700,8 @@ fn tiled_render_equals_shaded_hits() {
             ao,
             ..settings(b, 100, 90)
         };
-        let img = render(&model, &s, None).unwrap();
-        let hits = render_hits(&model, &s, None).unwrap();
+        let img = render(&model, &s, &CancelToken::new(), &ImagePool::default()).unwrap();
+        let hits = render_hits(&model, &s, &CancelToken::new()).unwrap();
         assert!(hits.hit_count() > 300, "{fov:?}: {} hits", hits.hit_count());
         let whole = shade(&hits, &s.lighting);
         assert_eq!(img.rgba, whole.rgba, "{fov:?}, ao {ao}");
@@ -1389,7 +1389,9 @@ fn closed_form_tiles_equal_shaded_hits() {
             };
             let cam = s.camera();
             let c = ModelCaster::new(&model, Inputs::default(), b);
-            let img = frep_render::render_with(&c, &s, &cam, None).unwrap();
+            let img =
+                frep_render::render_with(&c, &s, &cam, &CancelToken::new(), &ImagePool::default())
+                    .unwrap();
             let st = c.stats();
             let c2 = ModelCaster::new(&model, Inputs::default(), b);
             let hits = cast_tiled(&c2, &cam, w, h, tile);
@@ -1439,7 +1441,10 @@ fn closed_form_tiles_with_rays_starting_in_the_box() {
         let cam = Camera::look_at(eye, target, [0.3, 1.0, 0.2], projection);
         let s = settings(b, 64, 48);
         let c = ModelCaster::new(&model, Inputs::default(), b);
-        let img = one.install(|| frep_render::render_with(&c, &s, &cam, None).unwrap());
+        let img = one.install(|| {
+            frep_render::render_with(&c, &s, &cam, &CancelToken::new(), &ImagePool::default())
+                .unwrap()
+        });
         let c2 = ModelCaster::new(&model, Inputs::default(), b);
         let hits = one.install(|| cast_tiled(&c2, &cam, 64, 48, 16));
         assert!(hits.hit_count() > 100, "eye {eye:?}");
@@ -1477,12 +1482,33 @@ fn a_caster_carries_nothing_from_view_to_view() {
     let one = pool(1);
     one.install(|| {
         for (first, then) in [(&top, &turn), (&turn, &top)] {
-            let _ = frep_render::render_with(&shared, first, &first.camera(), None).unwrap();
+            let _ = frep_render::render_with(
+                &shared,
+                first,
+                &first.camera(),
+                &CancelToken::new(),
+                &ImagePool::default(),
+            )
+            .unwrap();
             let cam = then.camera();
             let hits = cast_tiled(&shared, &cam, 64, 64, 16);
             assert_eq!(hits.hits, cast_tiled(&fresh(), &cam, 64, 64, 16).hits);
-            let img = frep_render::render_with(&shared, then, &cam, None).unwrap();
-            let want = frep_render::render_with(&fresh(), then, &cam, None).unwrap();
+            let img = frep_render::render_with(
+                &shared,
+                then,
+                &cam,
+                &CancelToken::new(),
+                &ImagePool::default(),
+            )
+            .unwrap();
+            let want = frep_render::render_with(
+                &fresh(),
+                then,
+                &cam,
+                &CancelToken::new(),
+                &ImagePool::default(),
+            )
+            .unwrap();
             assert_eq!(img.rgba, want.rgba);
         }
     });

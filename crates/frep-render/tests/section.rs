@@ -11,8 +11,8 @@ use frep_core::eval::batch::BatchEval;
 use frep_core::eval::Inputs;
 use frep_core::Model;
 use frep_render::{
-    render, render_hits, Aabb, Camera, HitBuffer, ModelCaster, RenderError, RenderSettings,
-    Section, SECTION_CAP,
+    render, render_hits, Aabb, Camera, CancelToken, HitBuffer, ImagePool, ModelCaster, RenderError,
+    RenderSettings, Section, SECTION_CAP,
 };
 
 const SPHERE: &str = "my_model(x[3], a[1]) { my_model = 0.8 - sqrt(x[1]^2 + x[2]^2 + x[3]^2); }";
@@ -188,7 +188,7 @@ fn sphere_cut_in_half_shows_its_flat_face() {
                 }
             }
             // The public path agrees.
-            let hits = render_hits(&model, &set, None).unwrap();
+            let hits = render_hits(&model, &set, &CancelToken::new()).unwrap();
             check_against_reference(&cam, &hits, &s);
         }
     }
@@ -209,8 +209,8 @@ fn cut_face_is_shaded_in_the_cap_colour() {
         }),
         ..plain.clone()
     };
-    let a = render(&model, &plain, None).unwrap();
-    let b = render(&model, &cut, None).unwrap();
+    let a = render(&model, &plain, &CancelToken::new(), &ImagePool::default()).unwrap();
+    let b = render(&model, &cut, &CancelToken::new(), &ImagePool::default()).unwrap();
     let px = |img: &frep_render::Image, x: u32, y: u32| {
         let i = ((y * img.width + x) * 4) as usize;
         [img.rgba[i], img.rgba[i + 1], img.rgba[i + 2]].map(i32::from)
@@ -240,10 +240,16 @@ fn plane_removing_everything_gives_the_background() {
                 offset: -2.0,
             }),
         );
-        let hits = render_hits(&model, &s, None).unwrap();
+        let hits = render_hits(&model, &s, &CancelToken::new()).unwrap();
         assert!(hits.hits.iter().all(|h| h.is_none()));
-        let img = render(&model, &s, None).unwrap();
-        let bg = render(&empty, &settings(48, Some(30.0), None), None).unwrap();
+        let img = render(&model, &s, &CancelToken::new(), &ImagePool::default()).unwrap();
+        let bg = render(
+            &empty,
+            &settings(48, Some(30.0), None),
+            &CancelToken::new(),
+            &ImagePool::default(),
+        )
+        .unwrap();
         assert_eq!(img.rgba, bg.rgba);
     }
 }
@@ -270,14 +276,14 @@ fn plane_removing_nothing_changes_nothing() {
             }),
             ..plain.clone()
         };
-        let a = render(&model, &plain, None).unwrap();
-        let b = render(&model, &far, None).unwrap();
+        let a = render(&model, &plain, &CancelToken::new(), &ImagePool::default()).unwrap();
+        let b = render(&model, &far, &CancelToken::new(), &ImagePool::default()).unwrap();
         let differ = a.rgba.iter().zip(&b.rgba).filter(|(x, y)| x != y).count();
         // (The sectioned tape differs until the interval pruning drops the
         // plane: a few bits of a normal may round differently.)
         assert!(differ * 1000 <= a.rgba.len(), "{differ} bytes differ");
-        let ha = render_hits(&model, &plain, None).unwrap();
-        let hb = render_hits(&model, &far, None).unwrap();
+        let ha = render_hits(&model, &plain, &CancelToken::new()).unwrap();
+        let hb = render_hits(&model, &far, &CancelToken::new()).unwrap();
         let mask = |h: &HitBuffer| h.hits.iter().map(Option::is_some).collect::<Vec<_>>();
         assert_eq!(mask(&ha), mask(&hb));
     }
@@ -295,11 +301,11 @@ fn bad_planes_are_refused() {
     ] {
         let s = settings(16, Some(30.0), Some(Section { normal, offset }));
         assert!(matches!(
-            render(&model, &s, None),
+            render(&model, &s, &CancelToken::new(), &ImagePool::default()),
             Err(RenderError::BadSection(_))
         ));
         assert!(matches!(
-            render_hits(&model, &s, None),
+            render_hits(&model, &s, &CancelToken::new()),
             Err(RenderError::BadSection(_))
         ));
     }
@@ -320,8 +326,12 @@ fn bad_planes_are_refused() {
         }),
     );
     assert_eq!(
-        render(&model, &long, None).unwrap().rgba,
-        render(&model, &short, None).unwrap().rgba
+        render(&model, &long, &CancelToken::new(), &ImagePool::default())
+            .unwrap()
+            .rgba,
+        render(&model, &short, &CancelToken::new(), &ImagePool::default())
+            .unwrap()
+            .rgba
     );
 }
 
@@ -349,7 +359,7 @@ fn sake_pot_cut_through_its_axis() {
         section: Some(s),
         ..base
     };
-    let hits = render_hits(&model, &set, None).unwrap();
+    let hits = render_hits(&model, &set, &CancelToken::new()).unwrap();
     let mut ev = BatchEval::new(&model.tape());
     let attrs = model.attribute_tape().expect("the pot has colours");
     let mut av = BatchEval::new(&attrs);

@@ -3,7 +3,7 @@
 //! `frep render`. A section plane ([`section_of`]) cuts the model open.
 
 use frep_core::Inputs;
-use frep_render::{encode, render_camera, RenderSettings, Section};
+use frep_render::{encode, render_camera, ImagePool, RenderSettings, Section};
 use frep_wire::{CameraView, ImageEncoding, SectionPlane};
 
 use super::{limit, Cancel};
@@ -69,7 +69,8 @@ pub fn settings(
     }
 }
 
-/// Renders and encodes one image.
+/// Renders and encodes one image; its bytes come from `pool` and go back
+/// to it once encoded.
 #[allow(clippy::too_many_arguments)]
 pub fn image(
     compiled: &Compiled,
@@ -81,9 +82,12 @@ pub fn image(
     quality: u8,
     section: Option<&SectionPlane>,
     cancel: &Cancel,
+    pool: &ImagePool,
 ) -> Result<Vec<u8>, ArtefactError> {
     let s = settings(compiled, inputs, width, height, quality, section);
     let cam = camera(view, &s.bounds);
-    let img = render_camera(compiled.model(), &s, &cam, Some(cancel.flag()))?;
-    Ok(encode(&img, image_format(format), s.quality)?)
+    let img = render_camera(compiled.model(), &s, &cam, cancel.token(), pool)?;
+    let bytes = encode(&img, image_format(format), s.quality);
+    pool.recycle(img);
+    Ok(bytes?)
 }

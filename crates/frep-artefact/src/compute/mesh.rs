@@ -34,12 +34,7 @@ pub fn mesh(
         },
         ..Default::default()
     };
-    let mesh = polygonize(
-        compiled.model(),
-        &settings,
-        progress.mesh(),
-        cancel.mesh_token(),
-    )?;
+    let mesh = polygonize(compiled.model(), &settings, progress.mesh(), cancel.token())?;
     cancel.check()?;
     export::to_bytes(&mesh, format).map_err(|e| ArtefactError::Mesh(e.to_string()))
 }

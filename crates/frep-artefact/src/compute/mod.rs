@@ -15,9 +15,9 @@ pub mod slices;
 pub mod viewset;
 
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
-use std::sync::Arc;
 
-use frep_mesh::CancelToken;
+use frep_core::CancelToken;
+use frep_render::ImagePool;
 use frep_wire::{ArtefactSpec, VolumeLayout};
 
 use crate::compiled::Compiled;
@@ -25,12 +25,11 @@ use crate::config::ArtefactLimits;
 use crate::error::ArtefactError;
 use crate::key::media_type;
 
-/// Cancels a computation from another thread. The ray caster reads an
-/// `Arc<AtomicBool>` and the polygonizer a [`CancelToken`]; this sets both.
+/// Cancels a computation from another thread: the kernels' one
+/// [`CancelToken`], plus [`Cancel::check`] for this crate's errors.
 #[derive(Clone, Debug, Default)]
 pub struct Cancel {
-    flag: Arc<AtomicBool>,
-    mesh: CancelToken,
+    token: CancelToken,
 }
 
 impl Cancel {
@@ -41,23 +40,17 @@ impl Cancel {
 
     /// Asks the computation to stop.
     pub fn cancel(&self) {
-        self.flag.store(true, Ordering::Relaxed);
-        self.mesh.cancel();
+        self.token.cancel();
     }
 
     /// Whether [`Cancel::cancel`] was called.
     pub fn is_cancelled(&self) -> bool {
-        self.flag.load(Ordering::Relaxed)
+        self.token.is_cancelled()
     }
 
-    /// The ray caster's flag.
-    pub fn flag(&self) -> &Arc<AtomicBool> {
-        &self.flag
-    }
-
-    /// The polygonizer's token.
-    pub fn mesh_token(&self) -> &CancelToken {
-        &self.mesh
+    /// The token the kernels poll.
+    pub fn token(&self) -> &CancelToken {
+        &self.token
     }
 
     /// `Err(Cancelled)` once cancelled.
@@ -207,7 +200,8 @@ pub(crate) fn limit(name: &'static str, limit: u64, got: u64) -> Result<(), Arte
 }
 
 /// Computes `spec` for `compiled` at parameter values `params` (defaults
-/// filled in), after checking `limits`.
+/// filled in), after checking `limits`. Images take their bytes from
+/// `pool` and give them back once encoded.
 pub fn compute(
     compiled: &Compiled,
     params: &[f64],
@@ -215,6 +209,7 @@ pub fn compute(
     limits: &ArtefactLimits,
     cancel: &Cancel,
     progress: &JobProgress,
+    pool: &ImagePool,
 ) -> Result<Output, ArtefactError> {
     check_limits(spec, limits)?;
     cancel.check()?;
@@ -238,6 +233,7 @@ pub fn compute(
                 *quality,
                 section.as_ref(),
                 cancel,
+                pool,
             )?,
             spec,
         ),
@@ -262,7 +258,7 @@ pub fn compute(
                 section: *section,
             };
             Output::new(
-                viewset::sheet(compiled, inputs, &set, cancel, progress)?,
+                viewset::sheet(compiled, inputs, &set, cancel, progress, pool)?,
                 spec,
             )
         }

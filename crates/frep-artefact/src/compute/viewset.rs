@@ -13,7 +13,7 @@ use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::Mutex;
 
 use frep_core::Inputs;
-use frep_render::{encode, render_camera, render_view_set, Image, ViewSetOptions};
+use frep_render::{encode, render_camera, render_view_set, Image, ImagePool, ViewSetOptions};
 use frep_wire::{ImageEncoding, SectionPlane, ViewSetLayout};
 
 use super::{image, limit, Cancel, JobProgress};
@@ -106,6 +106,7 @@ pub fn sheet(
     spec: &ViewSetSpec,
     cancel: &Cancel,
     progress: &JobProgress,
+    pool: &ImagePool,
 ) -> Result<Vec<u8>, ArtefactError> {
     let l = layout(spec.views, &spec.elevations, spec.width, spec.height);
     let format = image_format(spec.format);
@@ -135,12 +136,12 @@ pub fn sheet(
             size: (w, h),
             ..settings.clone()
         };
-        let img = render_camera(compiled.model(), &s, cam, Some(cancel.flag()));
+        let img = render_camera(compiled.model(), &s, cam, cancel.token(), pool);
         let n = done.fetch_add(1, Ordering::Relaxed) + 1;
         progress.set(0.95 * n as f64 / total as f64);
         img.unwrap_or_else(|e| {
             // The first error is kept; the views left render nothing once
-            // the caster sees the cancel flag.
+            // the caster sees the cancel token.
             cancel.cancel();
             let mut f = failed.lock().unwrap_or_else(|p| p.into_inner());
             f.get_or_insert(e.into());
@@ -151,5 +152,10 @@ pub fn sheet(
         return Err(e);
     }
     cancel.check()?;
-    Ok(encode(&set.sheet, format, opts.quality)?)
+    let bytes = encode(&set.sheet, format, opts.quality);
+    for img in set.images {
+        pool.recycle(img);
+    }
+    pool.recycle(set.sheet);
+    Ok(bytes?)
 }

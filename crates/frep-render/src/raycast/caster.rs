@@ -4,12 +4,12 @@
 //! - the interval checks of a tile's box;
 //! - the tile entry point ([`TileCaster`]).
 
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
-use std::sync::{Arc, Mutex};
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Mutex;
 
 use frep_core::eval::batch::Trig;
 use frep_core::eval::Inputs;
-use frep_core::{Model, Tape};
+use frep_core::{CancelToken, Model, Tape};
 
 use crate::camera::{Aabb, Camera, Projection, RayMaker};
 use crate::image::Hit;
@@ -66,7 +66,7 @@ pub struct ModelCaster {
     pub(super) bounds: Aabb,
     /// The section plane the tape is cut by (normalized), if any.
     pub(super) section: Option<Section>,
-    cancel: Option<Arc<AtomicBool>>,
+    cancel: CancelToken,
     /// Sampling step along rays in leaves, in pixel footprints (default 2;
     /// thinner features are found by the thin-feature search).
     pub step_px: f64,
@@ -183,7 +183,7 @@ impl ModelCaster {
             inputs,
             bounds,
             section: None,
-            cancel: None,
+            cancel: CancelToken::new(),
             step_px: 2.0,
             fallback_depth: 3,
             leaf_depth_px: 16.0,
@@ -200,10 +200,10 @@ impl ModelCaster {
         }
     }
 
-    /// Checks `flag` before each tile and each frustum box; once it is set
-    /// the remaining tiles are left empty.
-    pub fn with_cancel(mut self, flag: Arc<AtomicBool>) -> ModelCaster {
-        self.cancel = Some(flag);
+    /// Checks `cancel` before each tile and each frustum box; once it is
+    /// cancelled the remaining tiles are left empty.
+    pub fn with_cancel(mut self, cancel: CancelToken) -> ModelCaster {
+        self.cancel = cancel;
         self
     }
 
@@ -317,9 +317,7 @@ impl ModelCaster {
     }
 
     pub(super) fn cancelled(&self) -> bool {
-        self.cancel
-            .as_ref()
-            .is_some_and(|c| c.load(Ordering::Relaxed))
+        self.cancel.is_cancelled()
     }
 }
 

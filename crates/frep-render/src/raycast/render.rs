@@ -1,24 +1,28 @@
 //! The public render functions ([`render`], [`render_camera`],
 //! [`render_with`], [`render_hits`]) and ambient occlusion.
+//!
+//! - Each takes a [`CancelToken`]: the caster checks it before each tile.
+//! - Those that return an [`Image`] take its bytes from an [`ImagePool`]
+//!   the caller owns; the caller may hand the image back with
+//!   [`ImagePool::recycle`] once it is encoded.
 
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
+use std::sync::atomic::Ordering;
 
 use frep_core::eval::batch::BatchEval;
-use frep_core::Model;
+use frep_core::{CancelToken, Model};
 
 use crate::camera::Camera;
-use crate::image::{fill_background, Hit, HitBuffer, Image, Shader};
+use crate::image::{fill_background, Hit, HitBuffer, Image, ImagePool, Shader};
 use crate::tiles::{cast_tiled, for_each_dynamic, tile_rows, tiles};
 
 use super::caster::ModelCaster;
 use super::normals::unit;
-use super::settings::{check_size, is_cancelled, RenderError, RenderSettings};
+use super::settings::{check_size, RenderError, RenderSettings};
 
 fn make_caster(
     model: &Model,
     settings: &RenderSettings,
-    cancel: Option<&Arc<AtomicBool>>,
+    cancel: &CancelToken,
 ) -> Result<ModelCaster, RenderError> {
     let caster = ModelCaster::sectioned(
         model,
@@ -27,10 +31,7 @@ fn make_caster(
         settings.section.as_ref(),
     )
     .map_err(|e| RenderError::BadSection(e.to_string()))?;
-    Ok(match cancel {
-        Some(c) => caster.with_cancel(c.clone()),
-        None => caster,
-    })
+    Ok(caster.with_cancel(cancel.clone()))
 }
 
 /// Casts the rays of `settings` and returns every hit (with ambient
@@ -38,14 +39,14 @@ fn make_caster(
 pub fn render_hits(
     model: &Model,
     settings: &RenderSettings,
-    cancel: Option<&Arc<AtomicBool>>,
+    cancel: &CancelToken,
 ) -> Result<HitBuffer, RenderError> {
     let (w, h) = settings.size;
     check_size(w, h)?;
     let caster = make_caster(model, settings, cancel)?;
     let cam = settings.camera();
     let mut hits = cast_tiled(&caster, &cam, w, h, settings.tile_size.max(1));
-    if is_cancelled(cancel) {
+    if cancel.is_cancelled() {
         return Err(RenderError::Cancelled);
     }
     if settings.ao {
@@ -59,14 +60,15 @@ pub fn render_hits(
 
 /// Renders a shaded image of `model` as `settings` describe. Tiles are cast
 /// and shaded in parallel and only the image is kept whole (no full hit
-/// buffer). `cancel`, when set during the render, makes it stop early with
-/// [`RenderError::Cancelled`].
+/// buffer). `cancel`, when cancelled during the render, makes it stop early
+/// with [`RenderError::Cancelled`]. The image's bytes come from `pool`.
 pub fn render(
     model: &Model,
     settings: &RenderSettings,
-    cancel: Option<&Arc<AtomicBool>>,
+    cancel: &CancelToken,
+    pool: &ImagePool,
 ) -> Result<Image, RenderError> {
-    render_camera(model, settings, &settings.camera(), cancel)
+    render_camera(model, settings, &settings.camera(), cancel, pool)
 }
 
 /// [`render`] through any camera (e.g. one view of a view set, or a
@@ -75,22 +77,25 @@ pub fn render_camera(
     model: &Model,
     settings: &RenderSettings,
     camera: &Camera,
-    cancel: Option<&Arc<AtomicBool>>,
+    cancel: &CancelToken,
+    pool: &ImagePool,
 ) -> Result<Image, RenderError> {
     let caster = make_caster(model, settings, cancel)?;
-    render_with(&caster, settings, camera, cancel)
+    render_with(&caster, settings, camera, cancel, pool)
 }
 
 /// [`render_camera`] with a prepared caster (whose [`CastStats`] then count
 /// this render; its section plane, not `settings.section`, is the one cut:
-/// [`ModelCaster::sectioned`]).
+/// [`ModelCaster::sectioned`]). The caster stops at the token it was
+/// given ([`ModelCaster::with_cancel`]); `cancel` is checked at the end.
 ///
 /// [`CastStats`]: crate::raycast::CastStats
 pub fn render_with(
     caster: &ModelCaster,
     settings: &RenderSettings,
     camera: &Camera,
-    cancel: Option<&Arc<AtomicBool>>,
+    cancel: &CancelToken,
+    pool: &ImagePool,
 ) -> Result<Image, RenderError> {
     let (w, h) = settings.size;
     check_size(w, h)?;
@@ -99,7 +104,7 @@ pub fn render_with(
     let mut img = Image {
         width: w,
         height: h,
-        rgba: crate::image::image_bytes(w as usize * h as usize * 4),
+        rgba: pool.zeroed(w as usize * h as usize * 4),
     };
     // Each tile is shaded straight into its rows of the image, or filled
     // with the background where no ray hit (nothing to shade). The hit
@@ -151,7 +156,8 @@ pub fn render_with(
             }
         },
     );
-    if is_cancelled(cancel) {
+    if cancel.is_cancelled() {
+        pool.recycle(img);
         return Err(RenderError::Cancelled);
     }
     Ok(img)

@@ -1,9 +1,6 @@
 //! What to render ([`RenderSettings`]) and why a render fails
 //! ([`RenderError`]).
 
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
-
 use frep_core::eval::Inputs;
 
 use crate::camera::{Aabb, Camera};
@@ -67,7 +64,7 @@ impl RenderSettings {
 /// Why a render produced no image.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum RenderError {
-    /// The cancel flag was set.
+    /// The [`CancelToken`](frep_core::CancelToken) was cancelled.
     Cancelled,
     /// The size is zero or above [`MAX_SIDE`] / [`MAX_PIXELS`].
     BadSize {
@@ -107,8 +104,4 @@ pub(super) fn check_size(width: u32, height: u32) -> Result<(), RenderError> {
         return Err(RenderError::BadSize { width, height });
     }
     Ok(())
-}
-
-pub(super) fn is_cancelled(cancel: Option<&Arc<AtomicBool>>) -> bool {
-    cancel.is_some_and(|c| c.load(Ordering::Relaxed))
 }

@@ -1,5 +1,6 @@
 //! What all sessions of one server share: the count of open sessions, the
-//! pool of workers that render streamed frames, and the session settings.
+//! pool of workers that render streamed frames, their spare image buffers,
+//! and the session settings.
 //!
 //! `AppState` has no field for it. So hubs are kept in a small registry,
 //! keyed by the server's artefact service (one `Arc` per server). Tests that
@@ -10,7 +11,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, Weak};
 
 use frep_adapt::ServerLoad;
-use frep_artefact::Artefacts;
+use frep_artefact::{Artefacts, ImagePool};
 use tokio::sync::Semaphore;
 
 use super::config::SessionConfig;
@@ -23,6 +24,9 @@ pub struct Hub {
     pub config: Arc<SessionConfig>,
     /// Renders of streamed frames at once, all sessions together.
     pub frames: Arc<Semaphore>,
+    /// Spare image buffers of the frame workers (the artefact service's:
+    /// one limit, `ArtefactConfig::image_pool_bytes`, for both).
+    pub images: ImagePool,
     frame_workers: usize,
     artefact_workers: usize,
     sessions: AtomicUsize,
@@ -63,12 +67,13 @@ impl Hub {
         let hub = Arc::new(Hub::new(
             state.config.session.clone(),
             state.config.limits.workers,
+            state.artefacts.image_pool().clone(),
         ));
         hubs.push((Arc::downgrade(&state.artefacts), hub.clone()));
         hub
     }
 
-    fn new(config: SessionConfig, artefact_workers: usize) -> Hub {
+    fn new(config: SessionConfig, artefact_workers: usize, images: ImagePool) -> Hub {
         let artefact_workers = artefact_workers.max(1);
         let frame_workers = match config.frame_workers {
             0 => artefact_workers,
@@ -77,6 +82,7 @@ impl Hub {
         Hub {
             config: Arc::new(config),
             frames: Arc::new(Semaphore::new(frame_workers)),
+            images,
             frame_workers,
             artefact_workers,
             sessions: AtomicUsize::new(0),

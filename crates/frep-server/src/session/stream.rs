@@ -21,7 +21,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use frep_artefact::compute::image;
-use frep_artefact::{ArtefactLimits, Cancel, Compiled};
+use frep_artefact::{ArtefactLimits, Cancel, Compiled, ImagePool};
 use frep_wire::{BinaryHeader, CameraView, ModeSettings, SectionPlane};
 use tokio::sync::{mpsc, watch, OwnedSemaphorePermit, Semaphore};
 
@@ -192,11 +192,11 @@ async fn render(
         .acquire_owned()
         .await
         .map_err(|_| "the frame pool is closed".to_string())?;
-    let (ask2, cancel2) = (ask.clone(), cancel.clone());
+    let (ask2, cancel2, pool) = (ask.clone(), cancel.clone(), hub.images.clone());
     let start = Instant::now();
     let bytes = tokio::task::spawn_blocking(move || {
         let _worker = worker;
-        frame_bytes(&ask2, (width, height, quality), &cancel2)
+        frame_bytes(&ask2, (width, height, quality), &cancel2, &pool)
     })
     .await
     .map_err(|e| format!("render task failed: {e}"))?
@@ -222,11 +222,13 @@ async fn render(
 }
 
 /// The encoded picture of an ask at this size and quality: its model,
-/// parameters, camera and section plane.
+/// parameters, camera and section plane. The image's bytes come from
+/// `pool` and go back to it.
 fn frame_bytes(
     ask: &Ask,
     (width, height, quality): (u32, u32, u8),
     cancel: &Cancel,
+    pool: &ImagePool,
 ) -> Result<Vec<u8>, frep_artefact::ArtefactError> {
     let inputs = ask.model.inputs(&ask.params);
     image::image(
@@ -239,6 +241,7 @@ fn frame_bytes(
         quality,
         ask.section.as_ref(),
         cancel,
+        pool,
     )
 }
 
@@ -290,7 +293,7 @@ mod tests {
                 section,
                 ..ask(true, (64, 48))
             };
-            frame_bytes(&a, (64, 48, 90), &cancel).unwrap()
+            frame_bytes(&a, (64, 48, 90), &cancel, &ImagePool::default()).unwrap()
         };
         let whole = frame(None);
         let cut = frame(Some(SectionPlane {
@@ -310,7 +313,7 @@ mod tests {
             .unwrap(),
             ..ask(true, (64, 48))
         };
-        let background = frame_bytes(&empty, (64, 48, 90), &cancel).unwrap();
+        let background = frame_bytes(&empty, (64, 48, 90), &cancel, &ImagePool::default()).unwrap();
         assert_ne!(whole, cut);
         assert_ne!(whole, none);
         assert_eq!(none, background);
