@@ -1,15 +1,13 @@
 //! Batch and gradient evaluators against a straightforward scalar walk of
 //! the tape with `ops::*`.
 
-mod common;
-
 use frep_core::eval::batch::{binary_lane, unary_lane, BatchEval, GradRegs, Trig, LANES};
 use frep_core::eval::grad::{Grad, GradEval};
+use frep_core::eval::reference::{self as walk, ulps};
 use frep_core::eval::Inputs;
 use frep_core::ops::{self, BinaryOp, BlendOp, EvalError, UnaryOp};
 use frep_core::{Graph, Node, NodeId, Tape};
 
-use common::walk;
 use proptest::prelude::*;
 
 /// The reference: every node in order with `ops::*`, errors as NaN, guards
@@ -34,24 +32,6 @@ fn outputs(
     let mut v = Vec::new();
     walk::walk_into(tape, p, inputs, un, bin, &mut v);
     tape.outputs.iter().map(|o| v[o.index()]).collect()
-}
-
-fn ulps(a: f64, b: f64) -> u64 {
-    if (a.is_nan() && b.is_nan()) || a == b {
-        return 0;
-    }
-    if a.is_nan() || b.is_nan() || a.is_infinite() || b.is_infinite() {
-        return u64::MAX;
-    }
-    let key = |v: f64| {
-        let i = v.to_bits() as i64;
-        if i < 0 {
-            i64::MIN - i
-        } else {
-            i
-        }
-    };
-    key(a).abs_diff(key(b))
 }
 
 fn same(a: f64, b: f64) -> bool {

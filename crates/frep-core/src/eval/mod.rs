@@ -46,6 +46,7 @@ impl Inputs {
 
 pub mod interval;
 pub mod point;
+pub mod reference;
 pub use point::PointEval;
 
 #[cfg(test)]

@@ -628,27 +628,7 @@ pub fn tan_checked_slice(input: &[f64], out: &mut [f64]) {
 mod tests {
     use super::*;
 
-    /// Distance in ulps (NaN/NaN and equal infinities: 0).
-    fn ulps(a: f64, b: f64) -> u64 {
-        if a.is_nan() && b.is_nan() {
-            return 0;
-        }
-        if a == b {
-            return 0;
-        }
-        if a.is_nan() || b.is_nan() || a.is_infinite() || b.is_infinite() {
-            return u64::MAX;
-        }
-        let key = |v: f64| {
-            let i = v.to_bits() as i64;
-            if i < 0 {
-                i64::MIN - i
-            } else {
-                i
-            }
-        };
-        key(a).abs_diff(key(b))
-    }
+    use crate::eval::reference::ulps;
 
     /// xorshift64*.
     struct Rng(u64);

@@ -1,38 +1,14 @@
-//! Test helpers shared by the evaluator tests: a plain scalar walk of a tape
-//! (errors as NaN, `Check` guards ignored) and random graph construction.
+//! Test helpers shared by the evaluator tests: the reference walk's values
+//! (see [`reference`](super::reference)) and random graph construction.
 
 use super::Inputs;
-use crate::graph::{Graph, Node, NodeId, Tape};
-use crate::ops::{self, BinaryOp, BlendOp, UnaryOp};
+use crate::graph::{Graph, NodeId, Tape};
+use crate::ops::{BinaryOp, BlendOp, UnaryOp};
 use proptest::prelude::*;
 
 /// Every node's value at a point, as the bulk evaluators define it.
 pub(crate) fn eval_point_all(tape: &Tape, p: [f64; 3], inputs: &Inputs) -> Vec<f64> {
-    let mut v: Vec<f64> = Vec::with_capacity(tape.len());
-    for node in &tape.nodes {
-        let g = |id: NodeId| v[id.index()];
-        let r = match *node {
-            Node::Const(b) => f64::from_bits(b),
-            Node::X(i) if i < 3 => p[i as usize],
-            Node::X(i) => inputs.extra_x(i),
-            Node::Param(i) => inputs.param(i),
-            Node::Error(_) => f64::NAN,
-            Node::Unary(op, a) => ops::unary(op, g(a)).unwrap_or(f64::NAN),
-            Node::Binary(op, a, b) => ops::binary(op, g(a), g(b)).unwrap_or(f64::NAN),
-            Node::PowI(a, n) => ops::pow_int(g(a), n).unwrap_or(f64::NAN),
-            Node::Select(c, t, e) => {
-                if ops::truthy(g(c)) {
-                    g(t)
-                } else {
-                    g(e)
-                }
-            }
-            Node::Blend(op, [a, b, c, d, e]) => ops::blend(op, g(a), g(b), g(c), g(d), g(e)),
-            Node::Check(_, val) => g(val),
-        };
-        v.push(r);
-    }
-    v
+    super::reference::eval_all(tape, p, inputs)
 }
 
 /// Output 0 at a point.

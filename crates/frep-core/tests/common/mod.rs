@@ -3,8 +3,6 @@
 
 use std::path::{Path, PathBuf};
 
-pub mod walk;
-
 /// One golden point: inputs (x y z then a[]) and the expected outcome.
 #[derive(Debug, Clone)]
 pub struct GoldenPoint {
