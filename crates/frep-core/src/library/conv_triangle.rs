@@ -9,24 +9,30 @@ use super::build::*;
 use super::{LibArg, LibError, SENTINEL};
 use crate::graph::{Graph, NodeId};
 
-/// One triangle of `hfConvTriangle.c` / `hfConvMesh.c`, added to `f`.
-pub(super) fn conv_triangle(
-    c: &mut C,
-    f: NodeId,
-    x: [NodeId; 3],
-    tri: [[NodeId; 3]; 3],
-    s: NodeId,
-) -> NodeId {
+/// `|p − q|`.
+fn edge_len(c: &mut C, p: [NodeId; 3], q: [NodeId; 3]) -> NodeId {
+    let d = [c.sub(p[0], q[0]), c.sub(p[1], q[1]), c.sub(p[2], q[2])];
+    let n = norm2(c, d);
+    c.sqrt(n)
+}
+
+/// `u · v`, in the C code's order.
+fn dot(c: &mut C, u: [NodeId; 3], v: [NodeId; 3]) -> NodeId {
+    let p0 = c.mul(u[0], v[0]);
+    let p1 = c.mul(u[1], v[1]);
+    let s = c.add(p0, p1);
+    let p2 = c.mul(u[2], v[2]);
+    c.add(s, p2)
+}
+
+/// The corners reordered so that the longest edge is `a1-a2`, with
+/// selects (the corners need not be constants).
+fn longest_first(c: &mut C, tri: [[NodeId; 3]; 3]) -> [[NodeId; 3]; 3] {
     let [mut a1, mut a2, mut a3] = tri;
-    let len = |c: &mut C, p: [NodeId; 3], q: [NodeId; 3]| {
-        let d = [c.sub(p[0], q[0]), c.sub(p[1], q[1]), c.sub(p[2], q[2])];
-        let n = norm2(c, d);
-        c.sqrt(n)
-    };
-    let l0 = len(c, a2, a1);
-    let l1 = len(c, a3, a2);
-    let l2 = len(c, a1, a3);
-    // Reorder so that the longest edge is a1-a2.
+    let l0 = edge_len(c, a2, a1);
+    let l1 = edge_len(c, a3, a2);
+    let l2 = edge_len(c, a1, a3);
+
     let c1a = c.ge(l1, l2);
     let c1b = c.gt(l1, l0);
     let c1 = c.and(c1a, c1b);
@@ -43,7 +49,29 @@ pub(super) fn conv_triangle(
         let e3 = c.sel(c2, o2[k], o3[k]);
         a3[k] = c.sel(c1, o1[k], e3);
     }
-    let l0 = len(c, a2, a1);
+    [a1, a2, a3]
+}
+
+/// The triangle in the frame of the foot `bp` of `a3` on the edge `a1-a2`.
+#[derive(Clone, Copy)]
+struct Frame {
+    /// `|x − bp|²`.
+    d2: NodeId,
+    /// `x − bp` along `a2 − bp` and along `a3 − bp`.
+    u: NodeId,
+    v: NodeId,
+    /// The height `|a3 − bp|` and the parts `|a1 − bp|`, `|a2 − bp|` of
+    /// the longest edge.
+    h: NodeId,
+    a1l: NodeId,
+    a2l: NodeId,
+    /// `v − h`.
+    g: NodeId,
+}
+
+/// [`Frame`] of point `x` for the corners `a1, a2, a3` (longest edge first).
+fn foot_frame(c: &mut C, x: [NodeId; 3], [a1, a2, a3]: [[NodeId; 3]; 3]) -> Frame {
+    let l0 = edge_len(c, a2, a1);
     let a21 = [
         c.sub(a2[0], a1[0]),
         c.sub(a2[1], a1[1]),
@@ -54,13 +82,6 @@ pub(super) fn conv_triangle(
         c.sub(a1[1], a3[1]),
         c.sub(a1[2], a3[2]),
     ];
-    let dot = |c: &mut C, u: [NodeId; 3], v: [NodeId; 3]| {
-        let p0 = c.mul(u[0], v[0]);
-        let p1 = c.mul(u[1], v[1]);
-        let s = c.add(p0, p1);
-        let p2 = c.mul(u[2], v[2]);
-        c.add(s, p2)
-    };
     // t = -(a21 . a13) / SQ(len[0])
     let t = dot(c, a21, a13);
     let t = c.neg(t);
@@ -83,10 +104,32 @@ pub(super) fn conv_triangle(
     let d2 = norm2(c, d);
     let u = dot(c, d, uv);
     let v = dot(c, d, vv);
-    let h = len(c, a3, bp);
-    let a1l = len(c, a1, bp);
-    let a2l = len(c, a2, bp);
+    let h = edge_len(c, a3, bp);
+    let a1l = edge_len(c, a1, bp);
+    let a2l = edge_len(c, a2, bp);
     let g = c.sub(v, h);
+    Frame {
+        d2,
+        u,
+        v,
+        h,
+        a1l,
+        a2l,
+        g,
+    }
+}
+
+/// The closed form of `hfConvTriangle.c` in the foot's frame, for width `s`.
+fn frame_integral(c: &mut C, fr: Frame, s: NodeId) -> NodeId {
+    let Frame {
+        d2,
+        u,
+        v,
+        h,
+        a1l,
+        a2l,
+        g,
+    } = fr;
     // m = a2*g + u*h; k = u*h - a1*g
     let a2g = c.mul(a2l, g);
     let uh = c.mul(u, h);
@@ -161,7 +204,20 @@ pub(super) fn conv_triangle(
     let sum = c.add(sum, arc3);
     let de = c.kmul(2.0, q);
     let de = c.mul(de, s);
-    let term = c.div(sum, de);
+    c.div(sum, de)
+}
+
+/// One triangle of `hfConvTriangle.c` / `hfConvMesh.c`, added to `f`.
+pub(super) fn conv_triangle(
+    c: &mut C,
+    f: NodeId,
+    x: [NodeId; 3],
+    tri: [[NodeId; 3]; 3],
+    s: NodeId,
+) -> NodeId {
+    let tri = longest_first(c, tri);
+    let frame = foot_frame(c, x, tri);
+    let term = frame_integral(c, frame, s);
     c.add(f, term)
 }
 

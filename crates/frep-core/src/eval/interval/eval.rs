@@ -121,6 +121,47 @@ impl Clone for IntervalEval {
     }
 }
 
+/// The `sin a` / `cos a` pairs of one argument `a`, both computed at the
+/// first of the two. Maps the first's index to `Some((sin, cos))` and the
+/// second's to `None`.
+fn trig_pairs(tape: &Tape) -> HashMap<u32, Option<(u32, u32)>> {
+    let mut trig: HashMap<u32, [Option<u32>; 2]> = HashMap::new();
+    for (i, node) in tape.nodes.iter().enumerate() {
+        if let Node::Unary(op @ (UnaryOp::Sin | UnaryOp::Cos), a) = *node {
+            trig.entry(a.index() as u32).or_default()[usize::from(op == UnaryOp::Cos)] =
+                Some(i as u32);
+        }
+    }
+    let mut paired = HashMap::new();
+    for [s, c] in trig.into_values() {
+        if let (Some(s), Some(c)) = (s, c) {
+            paired.insert(s.min(c), Some((s, c)));
+            paired.insert(s.max(c), None);
+        }
+    }
+    paired
+}
+
+/// Which inputs each instruction of `code` depends on (bits of
+/// [`input_bit`] and [`OTHER_INPUTS`]).
+fn instr_deps(tape: &Tape, code: &[Instr]) -> Vec<u8> {
+    let mut node_deps = vec![0u8; tape.len()];
+    for (i, node) in tape.nodes.iter().enumerate() {
+        node_deps[i] = match *node {
+            Node::X(k) => input_bit(k),
+            Node::Param(_) => OTHER_INPUTS,
+            _ => node.children().fold(0, |m, c| m | node_deps[c.index()]),
+        };
+    }
+    code.iter()
+        .map(|ins| match ins.op {
+            // The pair's argument (`out` is one of the two results).
+            Op::SinCos(a, _, _) => node_deps[a as usize],
+            _ => node_deps[ins.out as usize],
+        })
+        .collect()
+}
+
 impl IntervalEval {
     /// An evaluator for `tape`.
     pub fn new(tape: &Tape) -> Self {
@@ -132,20 +173,7 @@ impl IntervalEval {
         let mut leaves = Vec::with_capacity(4);
         let mut blends = Vec::new();
         let ix = |id: NodeId| id.index() as u32;
-        // `sin a` and `cos a` of one argument: both computed at the first.
-        let mut trig: HashMap<u32, [Option<u32>; 2]> = HashMap::new();
-        for (i, node) in tape.nodes.iter().enumerate() {
-            if let Node::Unary(op @ (UnaryOp::Sin | UnaryOp::Cos), a) = *node {
-                trig.entry(ix(a)).or_default()[usize::from(op == UnaryOp::Cos)] = Some(i as u32);
-            }
-        }
-        let mut paired = HashMap::new();
-        for [s, c] in trig.into_values() {
-            if let (Some(s), Some(c)) = (s, c) {
-                paired.insert(s.min(c), Some((s, c)));
-                paired.insert(s.max(c), None);
-            }
-        }
+        let paired = trig_pairs(tape);
         for (i, node) in tape.nodes.iter().enumerate() {
             if let Some(&pair) = paired.get(&(i as u32)) {
                 if let (Some((s, c)), Node::Unary(_, a)) = (pair, *node) {
@@ -200,23 +228,7 @@ impl IntervalEval {
             };
             code.push(Instr { op, out: i as u32 });
         }
-        // Which inputs each node depends on.
-        let mut node_deps = vec![0u8; n];
-        for (i, node) in tape.nodes.iter().enumerate() {
-            node_deps[i] = match *node {
-                Node::X(k) => input_bit(k),
-                Node::Param(_) => OTHER_INPUTS,
-                _ => node.children().fold(0, |m, c| m | node_deps[c.index()]),
-            };
-        }
-        let deps = code
-            .iter()
-            .map(|ins| match ins.op {
-                // The pair's argument (`out` is one of the two results).
-                Op::SinCos(a, _, _) => node_deps[a as usize],
-                _ => node_deps[ins.out as usize],
-            })
-            .collect();
+        let deps = instr_deps(tape, &code);
         IntervalEval {
             tape: tape.clone(),
             code,
