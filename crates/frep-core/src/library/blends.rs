@@ -13,11 +13,3 @@ pub(super) fn blend(g: &mut Graph, args: &[LibArg], op: BlendOp) -> Result<NodeI
     }
     Ok(g.blend(op, v))
 }
-
-pub(super) fn hf_blend_uni(g: &mut Graph, args: &mut [LibArg]) -> Result<NodeId, LibError> {
-    blend(g, args, BlendOp::Union)
-}
-
-pub(super) fn hf_blend_int(g: &mut Graph, args: &mut [LibArg]) -> Result<NodeId, LibError> {
-    blend(g, args, BlendOp::Inter)
-}

@@ -43,16 +43,6 @@ pub(super) fn dcone(
     Ok(c.neg(dist))
 }
 
-pub(super) fn hf_dcone_x(g: &mut Graph, args: &mut [LibArg]) -> Result<NodeId, LibError> {
-    dcone(g, args, 0, "hfDConeX")
-}
-pub(super) fn hf_dcone_y(g: &mut Graph, args: &mut [LibArg]) -> Result<NodeId, LibError> {
-    dcone(g, args, 1, "hfDConeY")
-}
-pub(super) fn hf_dcone_z(g: &mut Graph, args: &mut [LibArg]) -> Result<NodeId, LibError> {
-    dcone(g, args, 2, "hfDConeZ")
-}
-
 pub(super) fn hf_dcylinder(g: &mut Graph, args: &mut [LibArg]) -> Result<NodeId, LibError> {
     let mut c = C { g };
     let r = scalar(args, 3)?;
@@ -121,14 +111,4 @@ pub(super) fn dtorus(
     let t = c.sqrt(t);
     let t = c.sub(t, r0);
     Ok(c.neg(t))
-}
-
-pub(super) fn hf_dtorus_x(g: &mut Graph, args: &mut [LibArg]) -> Result<NodeId, LibError> {
-    dtorus(g, args, 0, "hfDTorusX")
-}
-pub(super) fn hf_dtorus_y(g: &mut Graph, args: &mut [LibArg]) -> Result<NodeId, LibError> {
-    dtorus(g, args, 1, "hfDTorusY")
-}
-pub(super) fn hf_dtorus_z(g: &mut Graph, args: &mut [LibArg]) -> Result<NodeId, LibError> {
-    dtorus(g, args, 2, "hfDTorusZ")
 }

@@ -65,37 +65,21 @@ pub(super) fn torus_tail(
     c.add(f, t)
 }
 
-pub(super) fn hf_torus_x(g: &mut Graph, args: &mut [LibArg]) -> Result<NodeId, LibError> {
+/// `hfTorusX/Y/Z`: a torus around `axis`. Under the root is the sum of the
+/// two squares across the axis, added in each C file's order.
+pub(super) fn torus(
+    g: &mut Graph,
+    args: &mut [LibArg],
+    axis: usize,
+    func: &str,
+) -> Result<NodeId, LibError> {
     let mut c = C { g };
     let (big_r, r0) = (scalar(args, 2)?, scalar(args, 3)?);
-    let [xt, yt, zt] = centred_or_sentinel!(args, c, "hfTorusX");
-    let z2 = c.sq(zt);
-    let y2 = c.sq(yt);
-    let x2 = c.sq(xt);
-    let s = c.add(z2, y2);
-    Ok(torus_tail(&mut c, r0, big_r, [x2, y2, z2], s))
-}
-
-pub(super) fn hf_torus_y(g: &mut Graph, args: &mut [LibArg]) -> Result<NodeId, LibError> {
-    let mut c = C { g };
-    let (big_r, r0) = (scalar(args, 2)?, scalar(args, 3)?);
-    let [xt, yt, zt] = centred_or_sentinel!(args, c, "hfTorusY");
-    let z2 = c.sq(zt);
-    let x2 = c.sq(xt);
-    let y2 = c.sq(yt);
-    let s = c.add(z2, x2);
-    Ok(torus_tail(&mut c, r0, big_r, [x2, y2, z2], s))
-}
-
-pub(super) fn hf_torus_z(g: &mut Graph, args: &mut [LibArg]) -> Result<NodeId, LibError> {
-    let mut c = C { g };
-    let (big_r, r0) = (scalar(args, 2)?, scalar(args, 3)?);
-    let [xt, yt, zt] = centred_or_sentinel!(args, c, "hfTorusZ");
-    let x2 = c.sq(xt);
-    let y2 = c.sq(yt);
-    let z2 = c.sq(zt);
-    let s = c.add(x2, y2);
-    Ok(torus_tail(&mut c, r0, big_r, [x2, y2, z2], s))
+    let d = centred_or_sentinel!(args, c, func);
+    let sq = d.map(|v| c.sq(v));
+    let (p, q) = [(2, 1), (2, 0), (0, 1)][axis];
+    let s = c.add(sq[p], sq[q]);
+    Ok(torus_tail(&mut c, r0, big_r, sq, s))
 }
 
 /// Elliptic cylinder along axis `skip`: `1 - (d_i/a)^2 - (d_j/b)^2`.
@@ -126,16 +110,6 @@ pub(super) fn other_axes(axis: usize) -> (usize, usize) {
     }
 }
 
-pub(super) fn hf_ell_cyl_x(g: &mut Graph, args: &mut [LibArg]) -> Result<NodeId, LibError> {
-    ell_cyl(g, args, 0, "hfEllCylX")
-}
-pub(super) fn hf_ell_cyl_y(g: &mut Graph, args: &mut [LibArg]) -> Result<NodeId, LibError> {
-    ell_cyl(g, args, 1, "hfEllCylY")
-}
-pub(super) fn hf_ell_cyl_z(g: &mut Graph, args: &mut [LibArg]) -> Result<NodeId, LibError> {
-    ell_cyl(g, args, 2, "hfEllCylZ")
-}
-
 /// Circular cylinder along axis `skip`: `R*R - d_i^2 - d_j^2`.
 pub(super) fn cylinder(
     g: &mut Graph,
@@ -154,16 +128,6 @@ pub(super) fn cylinder(
     let v = c.sq(d[j]);
     let f = c.sub(rr, u);
     Ok(c.sub(f, v))
-}
-
-pub(super) fn hf_cylinder_x(g: &mut Graph, args: &mut [LibArg]) -> Result<NodeId, LibError> {
-    cylinder(g, args, 0, "hfCylinderX")
-}
-pub(super) fn hf_cylinder_y(g: &mut Graph, args: &mut [LibArg]) -> Result<NodeId, LibError> {
-    cylinder(g, args, 1, "hfCylinderY")
-}
-pub(super) fn hf_cylinder_z(g: &mut Graph, args: &mut [LibArg]) -> Result<NodeId, LibError> {
-    cylinder(g, args, 2, "hfCylinderZ")
 }
 
 /// (Elliptic) cone along `axis`: `d_axis^2 - (d_i/a)^2 - (d_j/b)^2`, where
@@ -190,25 +154,6 @@ pub(super) fn cone(
     let v2 = c.sq(v);
     let f = c.sub(t2, u2);
     Ok(c.sub(f, v2))
-}
-
-pub(super) fn hf_cone_x(g: &mut Graph, args: &mut [LibArg]) -> Result<NodeId, LibError> {
-    cone(g, args, 0, false, "hfConeX")
-}
-pub(super) fn hf_cone_y(g: &mut Graph, args: &mut [LibArg]) -> Result<NodeId, LibError> {
-    cone(g, args, 1, false, "hfConeY")
-}
-pub(super) fn hf_cone_z(g: &mut Graph, args: &mut [LibArg]) -> Result<NodeId, LibError> {
-    cone(g, args, 2, false, "hfConeZ")
-}
-pub(super) fn hf_ell_cone_x(g: &mut Graph, args: &mut [LibArg]) -> Result<NodeId, LibError> {
-    cone(g, args, 0, true, "hfEllConeX")
-}
-pub(super) fn hf_ell_cone_y(g: &mut Graph, args: &mut [LibArg]) -> Result<NodeId, LibError> {
-    cone(g, args, 1, true, "hfEllConeY")
-}
-pub(super) fn hf_ell_cone_z(g: &mut Graph, args: &mut [LibArg]) -> Result<NodeId, LibError> {
-    cone(g, args, 2, true, "hfEllConeZ")
 }
 
 pub(super) fn hf_block(g: &mut Graph, args: &mut [LibArg]) -> Result<NodeId, LibError> {

@@ -14,12 +14,13 @@ use super::distance::*;
 use super::primitives::*;
 use super::transformations::*;
 use super::{LibFn, ParamKind};
+use crate::ops::BlendOp;
 
 const S: ParamKind = ParamKind::Scalar;
 const A: ParamKind = ParamKind::Array;
 
 macro_rules! lib {
-    ($name:literal, $display:literal, [$($k:ident $p:literal),*], $f:ident, $doc:literal) => {
+    ($name:literal, $display:literal, [$($k:ident $p:literal),*], $f:expr, $doc:literal) => {
         LibFn {
             name: $name,
             display: $display,
@@ -50,63 +51,63 @@ pub(super) static ALL: &[LibFn] = &[
         "hftorusz",
         "hfTorusZ",
         [A "x", A "center", S "R", S "r0"],
-        hf_torus_z,
+        |g, args| torus(g, args, 2, "hfTorusZ"),
         "Torus around an axis parallel to z: major radius R, minor radius r0."
     ),
     lib!(
         "hftorusx",
         "hfTorusX",
         [A "x", A "center", S "R", S "r0"],
-        hf_torus_x,
+        |g, args| torus(g, args, 0, "hfTorusX"),
         "Torus around an axis parallel to x: major radius R, minor radius r0."
     ),
     lib!(
         "hftorusy",
         "hfTorusY",
         [A "x", A "center", S "R", S "r0"],
-        hf_torus_y,
+        |g, args| torus(g, args, 1, "hfTorusY"),
         "Torus around an axis parallel to y: major radius R, minor radius r0."
     ),
     lib!(
         "hfellcylx",
         "hfEllCylX",
         [A "x", A "center", S "a", S "b"],
-        hf_ell_cyl_x,
+        |g, args| ell_cyl(g, args, 0, "hfEllCylX"),
         "Infinite elliptic cylinder along x with semi-axes a, b."
     ),
     lib!(
         "hfellcyly",
         "hfEllCylY",
         [A "x", A "center", S "a", S "b"],
-        hf_ell_cyl_y,
+        |g, args| ell_cyl(g, args, 1, "hfEllCylY"),
         "Infinite elliptic cylinder along y with semi-axes a, b."
     ),
     lib!(
         "hfellcylz",
         "hfEllCylZ",
         [A "x", A "center", S "a", S "b"],
-        hf_ell_cyl_z,
+        |g, args| ell_cyl(g, args, 2, "hfEllCylZ"),
         "Infinite elliptic cylinder along z with semi-axes a, b."
     ),
     lib!(
         "hfcylinderx",
         "hfCylinderX",
         [A "x", A "center", S "R"],
-        hf_cylinder_x,
+        |g, args| cylinder(g, args, 0, "hfCylinderX"),
         "Infinite circular cylinder along x of radius R."
     ),
     lib!(
         "hfcylindery",
         "hfCylinderY",
         [A "x", A "center", S "R"],
-        hf_cylinder_y,
+        |g, args| cylinder(g, args, 1, "hfCylinderY"),
         "Infinite circular cylinder along y of radius R."
     ),
     lib!(
         "hfcylinderz",
         "hfCylinderZ",
         [A "x", A "center", S "R"],
-        hf_cylinder_z,
+        |g, args| cylinder(g, args, 2, "hfCylinderZ"),
         "Infinite circular cylinder along z of radius R."
     ),
     lib!(
@@ -155,56 +156,56 @@ pub(super) static ALL: &[LibFn] = &[
         "hfrotate3dz",
         "hfRotate3DZ",
         [A "xt", S "theta"],
-        hf_rotate3d_z,
+        |g, args| rotate3d(g, args, 2, "hfRotate3DZ"),
         "Rotates the coordinates xt around z by theta radians."
     ),
     lib!(
         "hfrotate3dy",
         "hfRotate3DY",
         [A "xt", S "theta"],
-        hf_rotate3d_y,
+        |g, args| rotate3d(g, args, 1, "hfRotate3DY"),
         "Rotates the coordinates xt around y by theta radians."
     ),
     lib!(
         "hfrotate3dx",
         "hfRotate3DX",
         [A "xt", S "theta"],
-        hf_rotate3d_x,
+        |g, args| rotate3d(g, args, 0, "hfRotate3DX"),
         "Rotates the coordinates xt around x by theta radians."
     ),
     lib!(
         "hfblenduni",
         "hfBlendUni",
         [S "f1", S "f2", S "a0", S "a1", S "a2"],
-        hf_blend_uni,
+        |g, args| blend(g, args, BlendOp::Union),
         "Blending union of f1 and f2: displacement a0, shape a1, a2."
     ),
     lib!(
         "hfblendint",
         "hfBlendInt",
         [S "f1", S "f2", S "a0", S "a1", S "a2"],
-        hf_blend_int,
+        |g, args| blend(g, args, BlendOp::Inter),
         "Blending intersection of f1 and f2: displacement a0, shape a1, a2."
     ),
     lib!(
         "hftwistz",
         "hfTwistZ",
         [A "xt", S "z1", S "z2", S "theta1", S "theta2"],
-        hf_twist_z,
+        |g, args| twist(g, args, 2, "hfTwistZ"),
         "Twists xt around z from angle theta1 at z1 to theta2 at z2."
     ),
     lib!(
         "hftwisty",
         "hfTwistY",
         [A "xt", S "y1", S "y2", S "theta1", S "theta2"],
-        hf_twist_y,
+        |g, args| twist(g, args, 1, "hfTwistY"),
         "Twists xt around y from angle theta1 at y1 to theta2 at y2."
     ),
     lib!(
         "hftwistx",
         "hfTwistX",
         [A "xt", S "x1", S "x2", S "theta1", S "theta2"],
-        hf_twist_x,
+        |g, args| twist(g, args, 0, "hfTwistX"),
         "Twists xt around x from angle theta1 at x1 to theta2 at x2."
     ),
     lib!(
@@ -218,21 +219,21 @@ pub(super) static ALL: &[LibFn] = &[
         "hftaperz",
         "hfTaperZ",
         [A "xt", S "z1", S "z2", S "s1", S "s2"],
-        hf_taper_z,
+        |g, args| taper(g, args, 2, "hfTaperZ"),
         "Tapers xt along z: scale s1 at z1 to s2 at z2."
     ),
     lib!(
         "hftapery",
         "hfTaperY",
         [A "xt", S "y1", S "y2", S "s1", S "s2"],
-        hf_taper_y,
+        |g, args| taper(g, args, 1, "hfTaperY"),
         "Tapers xt along y: scale s1 at y1 to s2 at y2."
     ),
     lib!(
         "hftaperx",
         "hfTaperX",
         [A "xt", S "x1", S "x2", S "s1", S "s2"],
-        hf_taper_x,
+        |g, args| taper(g, args, 0, "hfTaperX"),
         "Tapers xt along x: scale s1 at x1 to s2 at x2."
     ),
     lib!(
@@ -302,56 +303,56 @@ pub(super) static ALL: &[LibFn] = &[
         "hfconex",
         "hfConeX",
         [A "x", A "center", S "R"],
-        hf_cone_x,
+        |g, args| cone(g, args, 0, false, "hfConeX"),
         "Infinite circular cone along x, apex at center, slope R."
     ),
     lib!(
         "hfconey",
         "hfConeY",
         [A "x", A "center", S "R"],
-        hf_cone_y,
+        |g, args| cone(g, args, 1, false, "hfConeY"),
         "Infinite circular cone along y, apex at center, slope R."
     ),
     lib!(
         "hfconez",
         "hfConeZ",
         [A "x", A "center", S "R"],
-        hf_cone_z,
+        |g, args| cone(g, args, 2, false, "hfConeZ"),
         "Infinite circular cone along z, apex at center, slope R."
     ),
     lib!(
         "hfellconex",
         "hfEllConeX",
         [A "x", A "center", S "a", S "b"],
-        hf_ell_cone_x,
+        |g, args| cone(g, args, 0, true, "hfEllConeX"),
         "Infinite elliptic cone along x, apex at center, slopes a, b."
     ),
     lib!(
         "hfellconey",
         "hfEllConeY",
         [A "x", A "center", S "a", S "b"],
-        hf_ell_cone_y,
+        |g, args| cone(g, args, 1, true, "hfEllConeY"),
         "Infinite elliptic cone along y, apex at center, slopes a, b."
     ),
     lib!(
         "hfellconez",
         "hfEllConeZ",
         [A "x", A "center", S "a", S "b"],
-        hf_ell_cone_z,
+        |g, args| cone(g, args, 2, true, "hfEllConeZ"),
         "Infinite elliptic cone along z, apex at center, slopes a, b."
     ),
     lib!(
         "hfspacemapcubic",
         "hfSpaceMapCubic",
         [A "xt", A "source", A "target", A "b"],
-        hf_space_map_cubic,
+        |g, args| space_map(g, args, true, "hfSpaceMapCubic"),
         "Space mapping moving the points source to target with cubic falloff b."
     ),
     lib!(
         "hfspacemapexp",
         "hfSpaceMapExp",
         [A "xt", A "source", A "target", A "b"],
-        hf_space_map_exp,
+        |g, args| space_map(g, args, false, "hfSpaceMapExp"),
         "Space mapping moving the points source to target with exponential falloff b."
     ),
     lib!(
@@ -372,21 +373,21 @@ pub(super) static ALL: &[LibFn] = &[
         "hfdconex",
         "hfDConeX",
         [A "x", A "center", S "R"],
-        hf_dcone_x,
+        |g, args| dcone(g, args, 0, "hfDConeX"),
         "Distance-based cone along x, apex at center, slope R."
     ),
     lib!(
         "hfdconey",
         "hfDConeY",
         [A "x", A "center", S "R"],
-        hf_dcone_y,
+        |g, args| dcone(g, args, 1, "hfDConeY"),
         "Distance-based cone along y, apex at center, slope R."
     ),
     lib!(
         "hfdconez",
         "hfDConeZ",
         [A "x", A "center", S "R"],
-        hf_dcone_z,
+        |g, args| dcone(g, args, 2, "hfDConeZ"),
         "Distance-based cone along z, apex at center, slope R."
     ),
     lib!(
@@ -400,21 +401,21 @@ pub(super) static ALL: &[LibFn] = &[
         "hfdtorusx",
         "hfDTorusX",
         [A "x", A "center", S "R", S "r0"],
-        hf_dtorus_x,
+        |g, args| dtorus(g, args, 0, "hfDTorusX"),
         "Distance-based torus around x: major radius R, minor radius r0."
     ),
     lib!(
         "hfdtorusy",
         "hfDTorusY",
         [A "x", A "center", S "R", S "r0"],
-        hf_dtorus_y,
+        |g, args| dtorus(g, args, 1, "hfDTorusY"),
         "Distance-based torus around y: major radius R, minor radius r0."
     ),
     lib!(
         "hfdtorusz",
         "hfDTorusZ",
         [A "x", A "center", S "R", S "r0"],
-        hf_dtorus_z,
+        |g, args| dtorus(g, args, 2, "hfDTorusZ"),
         "Distance-based torus around z: major radius R, minor radius r0."
     ),
 ];

@@ -74,16 +74,6 @@ pub(super) fn rotate3d(
     Ok(c.k(1.0))
 }
 
-pub(super) fn hf_rotate3d_x(g: &mut Graph, args: &mut [LibArg]) -> Result<NodeId, LibError> {
-    rotate3d(g, args, 0, "hfRotate3DX")
-}
-pub(super) fn hf_rotate3d_y(g: &mut Graph, args: &mut [LibArg]) -> Result<NodeId, LibError> {
-    rotate3d(g, args, 1, "hfRotate3DY")
-}
-pub(super) fn hf_rotate3d_z(g: &mut Graph, args: &mut [LibArg]) -> Result<NodeId, LibError> {
-    rotate3d(g, args, 2, "hfRotate3DZ")
-}
-
 pub(super) fn twist(
     g: &mut Graph,
     args: &mut [LibArg],
@@ -106,16 +96,6 @@ pub(super) fn twist(
     rotate_pair(&mut c, &mut xt, p, q, theta);
     set_array(args, 0, xt);
     Ok(c.k(1.0))
-}
-
-pub(super) fn hf_twist_x(g: &mut Graph, args: &mut [LibArg]) -> Result<NodeId, LibError> {
-    twist(g, args, 0, "hfTwistX")
-}
-pub(super) fn hf_twist_y(g: &mut Graph, args: &mut [LibArg]) -> Result<NodeId, LibError> {
-    twist(g, args, 1, "hfTwistY")
-}
-pub(super) fn hf_twist_z(g: &mut Graph, args: &mut [LibArg]) -> Result<NodeId, LibError> {
-    twist(g, args, 2, "hfTwistZ")
 }
 
 pub(super) fn taper(
@@ -149,16 +129,6 @@ pub(super) fn taper(
     xt[q] = c.div(xt[q], scale);
     set_array(args, 0, xt);
     Ok(c.k(1.0))
-}
-
-pub(super) fn hf_taper_x(g: &mut Graph, args: &mut [LibArg]) -> Result<NodeId, LibError> {
-    taper(g, args, 0, "hfTaperX")
-}
-pub(super) fn hf_taper_y(g: &mut Graph, args: &mut [LibArg]) -> Result<NodeId, LibError> {
-    taper(g, args, 1, "hfTaperY")
-}
-pub(super) fn hf_taper_z(g: &mut Graph, args: &mut [LibArg]) -> Result<NodeId, LibError> {
-    taper(g, args, 2, "hfTaperZ")
 }
 
 pub(super) fn hf_stretch3d(g: &mut Graph, args: &mut [LibArg]) -> Result<NodeId, LibError> {
@@ -233,11 +203,4 @@ pub(super) fn space_map(
     }
     set_array(args, 0, xt);
     Ok(c.k(1.0))
-}
-
-pub(super) fn hf_space_map_exp(g: &mut Graph, args: &mut [LibArg]) -> Result<NodeId, LibError> {
-    space_map(g, args, false, "hfSpaceMapExp")
-}
-pub(super) fn hf_space_map_cubic(g: &mut Graph, args: &mut [LibArg]) -> Result<NodeId, LibError> {
-    space_map(g, args, true, "hfSpaceMapCubic")
 }
