@@ -2,6 +2,7 @@
 
 mod bounds;
 mod eval;
+mod folder;
 mod format;
 mod glsl;
 mod mesh;

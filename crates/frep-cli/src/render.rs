@@ -7,12 +7,13 @@ use anyhow::{bail, Context};
 use frep_core::eval::batch::BatchEval;
 use frep_core::{Inputs, Model};
 use frep_render::{
-    encode, render_camera, render_view_set, sample_grid, write_slices, write_view_set, Aabb,
+    encode, render_camera, render_view_set, sample_grid, slice_files, view_set_files, Aabb,
     CancelToken, ImageFormat, ImagePool, ProgressivePlan, RenderSettings, SliceOptions,
     ViewSetOptions,
 };
 
 use crate::bounds::{inputs, numbers};
+use crate::folder::write_folder;
 
 /// Options of `frep render`.
 #[derive(clap::Args)]
@@ -166,8 +167,9 @@ pub fn render(args: RenderArgs) -> anyhow::Result<ExitCode> {
         if let Some(e) = failed.into_inner().unwrap_or_else(|p| p.into_inner()) {
             bail!("{e}");
         }
-        write_view_set(&args.output, &set)
+        let files = view_set_files(&set)
             .with_context(|| format!("cannot write {}", args.output.display()))?;
+        write_folder(&args.output, &files)?;
         return Ok(ExitCode::SUCCESS);
     }
     let format = ImageFormat::from_path(&args.output).with_context(|| {
@@ -230,8 +232,9 @@ pub fn slices(args: SlicesArgs) -> anyhow::Result<ExitCode> {
     let grid = sample_grid(&bounds, n, |xs, ys, zs, out| {
         BatchEval::new(&tape).eval_lines(0, n[0], true, xs, ys, zs, &inputs, out)
     });
-    let index = write_slices(&args.output, &grid, &SliceOptions::default())
+    let (index, files) = slice_files(&grid, &SliceOptions::default())
         .with_context(|| format!("cannot write {}", args.output.display()))?;
+    write_folder(&args.output, &files)?;
     println!(
         "{}: {}x{}x{} samples, byte = 128 + 127 * f / {}",
         args.output.display(),

@@ -13,13 +13,15 @@
 //! - [`slices`]: grid sampling through a batch callback, PNG slice stacks and
 //!   8-bit 3D textures;
 //! - [`raycast`]: the FRep ray caster ([`ModelCaster`]) and [`render`];
+//! - [`files`]: an export's files as names and bytes (the library writes
+//!   no files; the caller does);
 //! - [`golden`]: text masks for small golden renders;
 //! - [`synthetic`]: an analytic sphere scene for tests and demos.
 //!
 //! Conventions: world z is up; fields are HyperFun's (positive inside).
 //!
 //! The pipeline, with the analytic sphere standing in for the FRep ray caster
-//! (which will implement [`TileCaster`]):
+//! (both implement [`TileCaster`]):
 //!
 //! ```
 //! use frep_render::{cast_tiled, encode, shade, Aabb, Camera, ImageFormat, Lighting};
@@ -37,6 +39,7 @@
 
 pub mod camera;
 pub mod encode;
+pub mod files;
 pub mod golden;
 pub mod image;
 pub mod progressive;
@@ -48,6 +51,7 @@ pub mod viewset;
 
 pub use camera::{Aabb, Camera, Frustum, Projection, Ray, RayMaker};
 pub use encode::{encode, EncodeError, ImageFormat};
+pub use files::OutFile;
 pub use frep_core::CancelToken;
 pub use golden::ascii_mask;
 pub use image::{shade, DepthImage, Hit, HitBuffer, Image, ImagePool, Light, Lighting, Shader};
@@ -56,6 +60,6 @@ pub use raycast::{
     render, render_camera, render_hits, render_with, CastStats, ModelCaster, RenderError,
     RenderSettings, Section, SectionError, SECTION_CAP,
 };
-pub use slices::{sample_grid, write_slices, Grid, SliceIndex, SliceOptions};
+pub use slices::{sample_grid, slice_files, Grid, SliceIndex, SliceOptions};
 pub use tiles::{cast_tiled, Tile, TileCaster};
-pub use viewset::{render_view_set, write_view_set, ViewSet, ViewSetIndex, ViewSetOptions};
+pub use viewset::{render_view_set, view_set_files, ViewSet, ViewSetIndex, ViewSetOptions};

@@ -1,5 +1,6 @@
 //! Sampling a field on a regular grid (slice by slice, batches of points) and
-//! writing it as a PNG stack and an 8-bit 3D texture with a JSON sidecar.
+//! encoding it as a PNG stack and an 8-bit 3D texture with a JSON sidecar
+//! ([`slice_files`]; the caller writes them).
 //!
 //! Field convention (HyperFun): positive inside, zero on the surface.
 //! Byte mapping: byte `b` ↔ field value `v = (b − 128) / 127 × scale`.
@@ -8,14 +9,12 @@
 //! - Byte 0 is kept for samples where the model failed (NaN), which read as
 //!   outside.
 
-use std::io;
-use std::path::Path;
-
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::camera::Aabb;
-use crate::encode::encode_png_gray;
+use crate::encode::{encode_png_gray, EncodeError};
+use crate::files::OutFile;
 
 /// Field samples on a regular grid.
 #[derive(Clone, Debug, PartialEq)]
@@ -234,11 +233,13 @@ pub fn grid_bytes(grid: &Grid, scale: f32) -> Vec<u8> {
         .collect()
 }
 
-/// Writes `grid` into `dir` (created if needed): `slice_NNN.png` per z slice
-/// (8-bit grey, top row = largest y), `volume.raw` (the 3D texture) and
-/// `volume.json` (the sidecar, also returned).
-pub fn write_slices(dir: &Path, grid: &Grid, opts: &SliceOptions) -> io::Result<SliceIndex> {
-    std::fs::create_dir_all(dir)?;
+/// The files of `grid`: `slice_NNN.png` per z slice (8-bit grey, top row =
+/// largest y), `volume.raw` (the 3D texture) and `volume.json` (the
+/// sidecar, also returned), in that order. Slices are encoded in parallel.
+pub fn slice_files(
+    grid: &Grid,
+    opts: &SliceOptions,
+) -> Result<(SliceIndex, Vec<OutFile>), EncodeError> {
     let scale = opts
         .scale
         .filter(|s| s.is_finite() && *s > 0.0)
@@ -251,25 +252,24 @@ pub fn write_slices(dir: &Path, grid: &Grid, opts: &SliceOptions) -> io::Result<
     } else {
         Vec::new()
     };
+    let mut files = Vec::new();
     if opts.pngs && nx * ny > 0 {
-        pngs.par_iter()
-            .enumerate()
-            .try_for_each(|(k, name)| -> io::Result<()> {
+        files = (pngs.par_iter().enumerate())
+            .map(|(k, name)| {
                 let slice = &bytes[k * nx * ny..(k + 1) * nx * ny];
                 let mut flipped = Vec::with_capacity(nx * ny);
                 for j in (0..ny).rev() {
                     flipped.extend_from_slice(&slice[j * nx..(j + 1) * nx]);
                 }
                 let png = encode_png_gray(&flipped, nx as u32, ny as u32)?;
-                std::fs::write(dir.join(name), png)
-            })?;
+                Ok(OutFile::new(name, png))
+            })
+            .collect::<Result<_, EncodeError>>()?;
     }
-    let raw = if opts.raw {
-        std::fs::write(dir.join("volume.raw"), &bytes)?;
-        Some("volume.raw".to_string())
-    } else {
-        None
-    };
+    let raw = opts.raw.then(|| "volume.raw".to_string());
+    if let Some(name) = &raw {
+        files.push(OutFile::new(name, bytes));
+    }
     let finite = grid.values.iter().copied().filter(|v| v.is_finite());
     let field_min = finite.clone().reduce(f32::min);
     let field_max = finite.reduce(f32::max);
@@ -295,9 +295,10 @@ pub fn write_slices(dir: &Path, grid: &Grid, opts: &SliceOptions) -> io::Result<
         field_max,
         error_samples: grid.values.iter().filter(|v| v.is_nan()).count(),
     };
-    let json = serde_json::to_string_pretty(&index).map_err(io::Error::other)?;
-    std::fs::write(dir.join("volume.json"), json)?;
-    Ok(index)
+    let json =
+        serde_json::to_string_pretty(&index).map_err(|e| EncodeError::Encoder(e.to_string()))?;
+    files.push(OutFile::new("volume.json", json.into_bytes()));
+    Ok((index, files))
 }
 
 #[cfg(test)]
@@ -311,10 +312,8 @@ mod tests {
         }
     }
 
-    fn temp_dir(name: &str) -> std::path::PathBuf {
-        let d = std::env::temp_dir().join(format!("frep-render-{name}-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&d);
-        d
+    fn file<'a>(files: &'a [OutFile], name: &str) -> &'a [u8] {
+        &files.iter().find(|f| f.name == name).unwrap().bytes
     }
 
     #[test]
@@ -391,15 +390,15 @@ mod tests {
         let n = [20, 16, 12];
         let mut g = sample_grid(&b, n, sphere);
         g.values[0] = f32::NAN;
-        let dir = temp_dir("slices");
-        let idx = write_slices(&dir, &g, &SliceOptions::default()).unwrap();
+        let (idx, files) = slice_files(&g, &SliceOptions::default()).unwrap();
         assert_eq!(idx.pngs.len(), 12);
+        assert_eq!(files.len(), 12 + 2);
         assert_eq!(idx.error_samples, 1);
-        let raw = std::fs::read(dir.join("volume.raw")).unwrap();
+        let raw = file(&files, "volume.raw");
         assert_eq!(raw.len(), 20 * 16 * 12);
         assert_eq!(raw[0], 0);
         // Middle slice: centre bright, corner dark.
-        let png = std::fs::read(dir.join(&idx.pngs[6])).unwrap();
+        let png = file(&files, &idx.pngs[6]);
         let mut r = png::Decoder::new(std::io::Cursor::new(png))
             .read_info()
             .unwrap();
@@ -413,38 +412,34 @@ mod tests {
         let k = 6 * 20 * 16;
         assert_eq!(&buf[15 * 20..16 * 20], &raw[k..k + 20]);
         // The sidecar.
-        let json: SliceIndex =
-            serde_json::from_str(&std::fs::read_to_string(dir.join("volume.json")).unwrap())
-                .unwrap();
+        let json: SliceIndex = serde_json::from_slice(file(&files, "volume.json")).unwrap();
         assert_eq!(json, idx);
         assert_eq!(json.dims, n);
         assert!(json.mapping.scale_auto);
         // Decoding a byte gives the sampled value within a quantization step
         // where the value is inside the band.
         let s = json.mapping.scale;
-        for (v, b) in g.values.iter().zip(&raw).skip(1) {
+        for (v, b) in g.values.iter().zip(raw).skip(1) {
             if v.abs() <= s {
                 assert!((byte_to_field(*b, s) - v).abs() <= 0.5 * s / 127.0 + 1e-6);
             }
         }
-        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]
     fn given_scale_and_no_pngs() {
         let b = Aabb::new([-1.0; 3], [1.0; 3]);
         let g = sample_grid(&b, [4, 4, 4], sphere);
-        let dir = temp_dir("slices-raw");
         let opts = SliceOptions {
             scale: Some(2.0),
             pngs: false,
             ..Default::default()
         };
-        let idx = write_slices(&dir, &g, &opts).unwrap();
+        let (idx, files) = slice_files(&g, &opts).unwrap();
         assert!(idx.pngs.is_empty());
         assert_eq!(idx.mapping.scale, 2.0);
         assert!(!idx.mapping.scale_auto);
-        assert!(!dir.join("slice_000.png").exists());
-        std::fs::remove_dir_all(&dir).unwrap();
+        let names: Vec<&str> = files.iter().map(|f| f.name.as_str()).collect();
+        assert_eq!(names, ["volume.raw", "volume.json"]);
     }
 }

@@ -1,15 +1,14 @@
 //! View sets: a turntable of views around a model (optionally on several
-//! elevation rings), rendered in parallel, written as separate images plus one
-//! sprite sheet and a JSON index.
-
-use std::io;
-use std::path::Path;
+//! elevation rings), rendered in parallel, encoded as separate images plus
+//! one sprite sheet and a JSON index ([`view_set_files`]; the caller writes
+//! them).
 
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::camera::{Aabb, Camera, Projection};
-use crate::encode::{encode, ImageFormat};
+use crate::encode::{encode, EncodeError, ImageFormat};
+use crate::files::OutFile;
 use crate::image::Image;
 
 /// What to render.
@@ -146,7 +145,7 @@ pub struct ViewSetIndex {
 /// A rendered view set, in memory.
 #[derive(Clone, Debug)]
 pub struct ViewSet {
-    /// The index (file names are those [`write_view_set`] uses).
+    /// The index (file names are those of [`view_set_files`]).
     pub index: ViewSetIndex,
     /// The views, in index order.
     pub images: Vec<Image>,
@@ -274,23 +273,20 @@ where
     }
 }
 
-/// Writes a view set into `dir` (created if needed): `view_NNN.ext` for each
-/// view, `sheet.ext`, and `index.json`. Views are encoded in parallel.
-pub fn write_view_set(dir: &Path, set: &ViewSet) -> io::Result<()> {
-    std::fs::create_dir_all(dir)?;
+/// The files of a view set: `view_NNN.ext` for each view, `sheet.ext`,
+/// and `index.json`, in that order. Views are encoded in parallel.
+pub fn view_set_files(set: &ViewSet) -> Result<Vec<OutFile>, EncodeError> {
     let (format, quality) = (set.index.format, set.index.quality);
-    set.images
-        .par_iter()
+    let mut files: Vec<OutFile> = (set.images.par_iter())
         .zip(&set.index.views)
-        .try_for_each(|(img, v)| -> io::Result<()> {
-            std::fs::write(dir.join(&v.file), encode(img, format, quality)?)
-        })?;
-    std::fs::write(
-        dir.join(&set.index.sheet.file),
-        encode(&set.sheet, format, quality)?,
-    )?;
-    let json = serde_json::to_string_pretty(&set.index).map_err(io::Error::other)?;
-    std::fs::write(dir.join("index.json"), json)
+        .map(|(img, v)| Ok(OutFile::new(&v.file, encode(img, format, quality)?)))
+        .collect::<Result<_, EncodeError>>()?;
+    let sheet = encode(&set.sheet, format, quality)?;
+    files.push(OutFile::new(&set.index.sheet.file, sheet));
+    let json = serde_json::to_string_pretty(&set.index)
+        .map_err(|e| EncodeError::Encoder(e.to_string()))?;
+    files.push(OutFile::new("index.json", json.into_bytes()));
+    Ok(files)
 }
 
 #[cfg(test)]
@@ -305,12 +301,6 @@ mod tests {
             &sphere_hits(cam, w, h, [0.5, 0.0, 0.0], 0.4, Some([0.9, 0.5, 0.2])),
             &Lighting::default(),
         )
-    }
-
-    fn temp_dir(name: &str) -> std::path::PathBuf {
-        let d = std::env::temp_dir().join(format!("frep-render-{name}-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&d);
-        d
     }
 
     #[test]
@@ -354,13 +344,14 @@ mod tests {
             set.images[7].pixel(20, 10)
         );
 
-        let dir = temp_dir("viewset");
-        write_view_set(&dir, &set).unwrap();
+        let files = view_set_files(&set).unwrap();
+        let file = |name: &str| &files.iter().find(|f| f.name == name).unwrap().bytes;
         let jpeg = set.clone().with_format(ImageFormat::Jpeg, 80);
         assert_eq!(jpeg.index.views[3].file, "view_003.jpg");
         assert_eq!(jpeg.index.sheet.file, "sheet.jpg");
         assert_eq!(jpeg.index.quality, 80);
-        let json = std::fs::read_to_string(dir.join("index.json")).unwrap();
+        assert_eq!(files.len(), 12 + 2);
+        let json = String::from_utf8(file("index.json").clone()).unwrap();
         let back: ViewSetIndex = serde_json::from_str(&json).unwrap();
         // (serde_json's default float parsing may differ in the last bit.)
         assert_eq!(back.sheet, set.index.sheet);
@@ -381,15 +372,14 @@ mod tests {
         );
         assert_eq!(value["views"][1]["rect"]["x"], 48);
         assert_eq!(value["format"], "png");
-        for v in &back.views {
-            assert!(dir.join(&v.file).is_file());
+        for (v, f) in back.views.iter().zip(&files) {
+            assert_eq!(v.file, f.name);
         }
-        let sheet = std::fs::read(dir.join("sheet.png")).unwrap();
+        let sheet = file("sheet.png").clone();
         let r = png::Decoder::new(std::io::Cursor::new(sheet))
             .read_info()
             .unwrap();
         assert_eq!((r.info().width, r.info().height), (288, 64));
-        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]
