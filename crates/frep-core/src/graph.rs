@@ -455,11 +455,13 @@ impl Tape {
     }
 
     /// The degree of output 0 as a polynomial in the point `x[1..3]`, where
-    /// the tape computes one: only constants, parameters, the other
-    /// coordinate slots (constant while a point varies), `+`, `−`, `*`,
-    /// negation, integer powers `^ n` with `n ≥ 0`, division by a value
-    /// that does not depend on the point, and `if` on such a value. `None`
-    /// otherwise (any other operation on the point, or a degree above 64).
+    /// the tape computes one.
+    ///
+    /// A polynomial uses only constants, parameters, the other coordinate
+    /// slots (constant while a point varies), `+`, `−`, `*`, negation,
+    /// integer powers `^ n` with `n ≥ 0`, division by a value that does not
+    /// depend on the point, and `if` on such a value. Any other operation on
+    /// the point, or a degree above 64, gives `None`.
     ///
     /// Along a ray `p = o + t·d` such a field is a polynomial of this degree
     /// in `t`, up to rounding, so a ray caster may find its crossings in

@@ -6,13 +6,15 @@
 //!
 //! Number values are computed with exactly the reference scanner's arithmetic
 //! (`int_scanner.c`), so that constants are bit-identical to the reference:
-//! the integer part is accumulated as `v = v*10 + d`, each fraction digit adds
-//! `d / t` where `t` starts at 10 and is multiplied by 10 per digit, and an
-//! exponent multiplies by `exp(e * ln 10)`. The exponent itself is
-//! accumulated as the reference does it: `e = sign * d1`, then
-//! `e = e*10 + d` for every further digit — so a negative exponent of
-//! several digits is mis-read by the reference (`1e-12` is `1e-8` there:
-//! `-1*10 + 2 = -8`). This quirk is **replicated** for bit-compatibility.
+//! - the integer part is accumulated as `v = v*10 + d`;
+//! - each fraction digit adds `d / t`, where `t` starts at 10 and is
+//!   multiplied by 10 per digit;
+//! - an exponent multiplies by `exp(e * ln 10)`.
+//!
+//! The exponent itself is accumulated as the reference does it: `e = sign *
+//! d1`, then `e = e*10 + d` for every further digit. So the reference
+//! mis-reads a negative exponent of several digits: `1e-12` is `1e-8` there
+//! (`-1*10 + 2 = -8`). This quirk is **replicated** for bit-compatibility.
 //!
 //! # Deliberate deviations from the reference scanner (leniency)
 //!

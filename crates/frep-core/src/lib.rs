@@ -1,9 +1,11 @@
 //! # frep-core
 //!
-//! The kernel of frep: the HyperFun language (lexer, parser, diagnostics), a
-//! staged compiler from HyperFun bodies to a pure expression graph over the
-//! point `x[]` and the parameters `a[]`, and the evaluators every other part of
-//! frep uses (f64 point, batch, interval, gradient).
+//! The kernel of frep:
+//! - the HyperFun language (lexer, parser, diagnostics);
+//! - a staged compiler from HyperFun bodies to a pure expression graph over
+//!   the point `x[]` and the parameters `a[]`;
+//! - the evaluators every other part of frep uses (f64 point, batch,
+//!   interval, gradient).
 //!
 //! This crate does no I/O, spawns no threads, and builds for
 //! `wasm32-unknown-unknown`.

@@ -6,10 +6,12 @@
 //!
 //! ## [`SimplifyMode::Exact`]
 //! Every output keeps its value bit for bit (NaN stays NaN) at every point of
-//! the region: a decided `min`/`max` becomes the argument it returns, a
-//! decided `select` its branch, a decided comparison or `and`/`or`/`not` the
-//! constant 0 or 1, and `and`/`or` with a decided side the other side when
-//! that one is itself a boolean (0/1-valued) operation.
+//! the region. The rewrites:
+//! - a decided `min`/`max` becomes the argument it returns;
+//! - a decided `select` becomes its branch;
+//! - a decided comparison or `and`/`or`/`not` becomes the constant 0 or 1;
+//! - `and`/`or` with a decided side becomes the other side, when that one is
+//!   itself a boolean (0/1-valued) operation.
 //!
 //! ## [`SimplifyMode::Sign`]
 //! Output 0 (the defining function) only keeps its *sign* — positive, zero,
@@ -36,10 +38,10 @@
 //! an R-function overflow, and its computed sign then no longer follows the
 //! exact-arithmetic rule.
 //!
-//! The sign is that of the exact-arithmetic function: where the full tape's
-//! computed value is within rounding noise of 0 (an R-function of arguments
-//! of very different magnitudes cancels), the simplified tape can give the
-//! true sign where the full one gives 0.
+//! The sign is that of the exact-arithmetic function. The full tape's
+//! computed value may be within rounding noise of 0, as when an R-function
+//! of arguments of very different magnitudes cancels. There the simplified
+//! tape can give the true sign where the full one gives 0.
 
 use crate::eval::interval::{can_choose, Choice, Decided, IntervalEval, Pick};
 use crate::graph::{Node, NodeId, Tape};
@@ -104,9 +106,10 @@ fn picked(node: &Node, pick: Pick) -> Option<NodeId> {
 }
 
 /// The parts of a tape's [`Choice`]s that [`simplify`] can read, for
-/// callers that cache simplified tapes by their choices: the [`key`] of an
-/// evaluation holds only those, and [`expand`] turns it back into choices
-/// that simplify to the same tape as the evaluation's own. The signs of
+/// callers that cache simplified tapes by their choices.
+///
+/// The [`key`] of an evaluation holds only those. [`expand`] turns it back
+/// into choices that simplify to the same tape as the evaluation's own. The signs of
 /// nodes that are never used for their sign alone vary from box to box and
 /// change nothing, and most nodes (arithmetic) have nothing to choose.
 ///
@@ -139,10 +142,11 @@ impl ChoiceMask {
             }
         }
         // Parents before children. A node may be used for its sign alone
-        // only through a parent that may be: as an argument it uses for its
-        // sign, or as the argument a decided parent reduces to (a branch of
-        // `and`/`or`, the value of a `Check`); over-approximated, since
-        // which parents stay live depends on the choices.
+        // only through a parent that may be. Either the parent uses that
+        // argument for its sign, or a decided parent reduces to it (a
+        // branch of `and`/`or`, the value of a `Check`). This
+        // over-approximates, since which parents stay live depends on the
+        // choices.
         for i in (0..n).rev() {
             if !may[i] {
                 continue;

@@ -16,10 +16,11 @@
 //!   changing one never recompiles.
 //!
 //! Runtime errors of the reference interpreter (division by `|b| < 1e-6`, …)
-//! stay in the graph as checked operations; the compiler threads a chain of
-//! [`Node::Check`](crate::Node::Check)s through the statements so that the point evaluator
-//! reports, per point, the error the reference would report first — even for
-//! a statement whose value is never used. See [`crate::graph`].
+//! stay in the graph as checked operations. The compiler threads a chain of
+//! [`Node::Check`](crate::Node::Check)s through the statements. So the point
+//! evaluator reports, per point, the error the reference would report
+//! first, even for a statement whose value is never used. See
+//! [`crate::graph`].
 //!
 //! Every resource is bounded by [`CompileOptions`]: nodes, loop iterations,
 //! inlined calls and total work (a step budget that stands in for a time

@@ -7,11 +7,12 @@
 //! transcendental functions use the branch-free kernels of
 //! [`simd_math`](super::simd_math).
 //!
-//! * **Uniform values** — constants, parameters, extra coordinates `x[4..]`,
-//!   errors and every operation of uniform values only — are computed once per
-//!   call with scalar code (cached while the [`Inputs`] stay the same) and
-//!   enter the program as scalar operands of binary operations, or as
-//!   registers filled once per call where another operation needs them.
+//! * **Uniform values** are constants, parameters, extra coordinates
+//!   `x[4..]`, errors and every operation of uniform values only. They are
+//!   computed once per call with scalar code, cached while the [`Inputs`]
+//!   stay the same. They enter the program as scalar operands of binary
+//!   operations, or as registers filled once per call where another
+//!   operation needs them.
 //! * **Registers** are allocated by last use: memory is
 //!   O(live values × block), not O(tape × block).
 //! * **Guards** of [`Node::Check`] are ignored (the value is the checked
@@ -22,17 +23,18 @@
 //!   the three partial derivatives along (forward-mode automatic
 //!   differentiation), for many points at once.
 //! * **Lines**: [`BatchEval::eval_lines`] evaluates points on lines parallel
-//!   to a coordinate axis (a ray of an axis-aligned orthographic view, a row
-//!   of a sampled grid) with the transcendental functions of the other two
-//!   coordinates computed once per line, and on a grid of such lines those
-//!   of the axis coordinate once per position (the same bits as `eval`).
+//!   to a coordinate axis, such as the rays of an axis-aligned orthographic
+//!   view or the rows of a sampled grid. The transcendental functions of the
+//!   other two coordinates are computed once per line. On a grid of such
+//!   lines, those of the axis coordinate are computed once per position.
+//!   The bits are those of `eval`.
 //!
 //! ## Semantics
 //! Every operation computes what [`ops`] computes, except that runtime errors
-//! give NaN ([`Node::Error`], checked `/` with `|b| < 1e-6`, `sqrt` of a
-//! negative number, `log` at or below 0, `tan` where `|cos| < 1e-6`, `asin`
-//! and `acos` outside [-1, 1], HyperFun's `^` errors, `b ^ n` with
-//! `|b| < 1e-6` and `n <= 0`). Arithmetic, comparisons, `min`/`max`,
+//! give NaN. They are [`Node::Error`], checked `/` with `|b| < 1e-6`, `sqrt`
+//! of a negative number, `log` at or below 0, `tan` where `|cos| < 1e-6`,
+//! `asin` and `acos` outside [-1, 1], HyperFun's `^` errors, and `b ^ n`
+//! with `|b| < 1e-6` and `n <= 0`. Arithmetic, comparisons, `min`/`max`,
 //! R-functions, blends, selects, rounding and integer powers are bit-exact;
 //! `exp`, `log`, `logd`, `sin`, `cos`, `tan` and `atan` use the vectorised
 //! kernels (≤ 2 ulp from `std`; `sin` and `cos` within about `2e-14` of the

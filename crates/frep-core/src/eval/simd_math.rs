@@ -1,8 +1,8 @@
 //! Vectorisable `f64` elementary functions.
 //!
-//! Each function is written branch-free (selects instead of branches, bit
-//! tricks instead of `f64 <-> i64` conversions), so that a loop applying it to
-//! every lane of an array compiles to SIMD code; a scalar libm call per lane
+//! Each function is written branch-free: selects instead of branches, bit
+//! tricks instead of `f64 <-> i64` conversions. So a loop applying it to
+//! every lane of an array compiles to SIMD code. A scalar libm call per lane
 //! is what makes a JIT slow on trigonometry-heavy models (the gyroid).
 //!
 //! The algorithms are those of fdlibm / musl (Sun Microsystems' freely
@@ -12,9 +12,9 @@
 //! `std` on millions of random arguments).
 //!
 //! `sin`, `cos` and `tan` reduce arguments with a Cody–Waite reduction by
-//! π/2 in three 33-bit parts (exact up to |x| < 2^20·π/2); beyond
-//! [`TRIG_LIMIT`] (and for infinities and NaN) the slice functions recompute
-//! those lanes with `std`, in a second pass that runs only when such a lane
+//! π/2 in three 33-bit parts, exact up to |x| < 2^20·π/2. Beyond
+//! [`TRIG_LIMIT`], and for infinities and NaN, the slice functions recompute
+//! those lanes with `std`. That second pass runs only when such a lane
 //! exists.
 //!
 //! The scalar functions (`sin`, `exp`, ...) give exactly the values the slice
@@ -803,10 +803,10 @@ mod tests {
     }
 
     /// The fast `sin`/`cos` of `x ≈ k·π/2 + r` are within `5e-14` of `std`'s
-    /// value plus `2e-26·|k|` (the reduction's error), over the whole
-    /// reduced range, near multiples of π/2 and far out; the
-    /// slices give the scalar's bits; beyond the range and at infinities
-    /// and NaN they are `std`'s.
+    /// value plus `2e-26·|k|` (the reduction's error). That holds over the
+    /// whole reduced range, near multiples of π/2 and far out. The slices
+    /// give the scalar's bits. Beyond the range, and at infinities and NaN,
+    /// they are `std`'s.
     #[test]
     fn fast_sin_cos_accuracy() {
         let mut rng = Rng(0x0ddb_a11c_0ffe_e123);

@@ -1,7 +1,14 @@
 //! `hfConvArc`: the Cauchy kernel integrated over circular arcs.
 //!
-//! The integral runs over the arc's angle, not its length. It is singular
-//! (NaN) where the point's local x coordinate is 0, as in C.
+//! The integral runs over the arc's *angle*, not its length: it is `r`
+//! times smaller. It is singular (NaN) where the point's local x coordinate
+//! is 0, as in C.
+//!
+//! `tan` and `atanh` have no IEEE graph operation. They are built from the
+//! checked ones behind selects that keep them error-free:
+//! - `tan` is `sin/cos` where `|cos| < 1e-6`, a value within a few ulps of
+//!   libm's;
+//! - `log` is NaN or `-inf` outside its domain, like C's.
 
 use super::build::*;
 use super::{LibArg, LibError, SENTINEL};

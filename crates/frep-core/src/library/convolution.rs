@@ -1,8 +1,10 @@
 //! Convolution surfaces of points and line segments (`hfConvPoint`,
 //! `hfConvLine`, `hfConvCurve`, `hfConvLineR`).
 //!
-//! The kernel is Cauchy's `1 / (1 + S²r²)²`. Its integral along a segment
-//! has a closed form: two rational terms and a sum of two arc tangents.
+//! The kernel is Cauchy's `1 / (1 + S²r²)²`. `hfConvLine` and `hfConvCurve`
+//! integrate it along each segment's length. That integral has a closed
+//! form: two rational terms and a sum of two arc tangents. `hfConvLineR`
+//! uses the same form with its own middle term, then clamps the sum at 1.
 
 use super::build::*;
 use super::{LibArg, LibError, SENTINEL};

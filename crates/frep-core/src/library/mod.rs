@@ -26,17 +26,9 @@
 //! * `hfConvArc` writes `angle[n] + 1e-6` and the clamped `theta[n]` back
 //!   into its array arguments on every call, as the C code does.
 //!
-//! `tan` and `atanh` inside `hfConvArc` have no IEEE graph operation; they
-//! are built from the checked ones behind selects that keep them error-free
-//! (`tan` as `sin/cos` where `|cos| < 1e-6`, a value within a few ulps of
-//! libm's; `log` as NaN / `-inf` outside its domain, like C's).
-//!
-//! The convolution closed forms were checked against quadrature of the Cauchy
-//! kernel `1 / (1 + S²r²)²` (see the tests): `hfConvLine`/`hfConvCurve`
-//! integrate it along the segment's length, `hfConvArc` over the arc's
-//! *angle* (not its length: `r` times smaller), and `hfConvTriangle` /
-//! `hfConvMesh` give `S³` times its area integral. `hfConvArc` is singular
-//! (NaN) where the point's local x coordinate is 0, as in C.
+//! The convolution closed forms were checked against quadrature of the
+//! Cauchy kernel `1 / (1 + S²r²)²` (see the tests). Each convolution file
+//! says what its closed form integrates.
 //!
 //! ## Coverage of the reference function table (`int_global.c`)
 //! Implemented: every entry of SPEC §4.1–4.3 (`hfSphere`, `hfEllipsoid`,

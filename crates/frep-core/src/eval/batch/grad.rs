@@ -2,17 +2,20 @@
 //! register program: [`BatchEval::eval_grad`].
 //!
 //! Each register holds a block of values and the three partial derivatives
-//! of each, structure of arrays; every instruction is one loop over the
-//! lanes of a block, as in [`BatchEval::eval`]. Values are what
-//! [`BatchEval::eval`] computes, bit for bit (the same lane functions);
-//! derivatives follow the conventions of [`GradEval`](crate::eval::grad),
-//! with its products grouped as it groups them (a NaN value of a unary,
-//! binary or power operation has NaN derivatives, a select's or blend's
-//! keeps what its terms give; piecewise-constant operations have
-//! derivative 0; `min`, `max` and selects take the derivative of what they
-//! pick; R-functions and blends take 0 for the `√(a² + b²)` term where it
-//! vanishes; `b ^ e` drops `ln(b)·b^e·de` where `de = 0`). Uniform values
-//! have derivative 0.
+//! of each, structure of arrays. Every instruction is one loop over the
+//! lanes of a block, as in [`BatchEval::eval`].
+//!
+//! Values are what [`BatchEval::eval`] computes, bit for bit: the same lane
+//! functions. Derivatives follow the conventions of
+//! [`GradEval`](crate::eval::grad), with its products grouped as it groups
+//! them:
+//! - a NaN value of a unary, binary or power operation has NaN
+//!   derivatives; a select's or blend's keeps what its terms give;
+//! - piecewise-constant operations and uniform values have derivative 0;
+//! - `min`, `max` and selects take the derivative of what they pick;
+//! - R-functions and blends take 0 for the `√(a² + b²)` term where it
+//!   vanishes;
+//! - `b ^ e` drops `ln(b)·b^e·de` where `de = 0`.
 
 use super::{
     binary_lane, pow_int_kernel, select_lane, sm, split, unary_lane, BatchEval, Instr, Src, Trig,

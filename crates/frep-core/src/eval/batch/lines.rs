@@ -1,10 +1,13 @@
 //! Batch evaluation of points on lines parallel to a coordinate axis
 //! ([`BatchEval::eval_lines`]): the points come in runs that share two
 //! coordinates (and, on a grid, every run has the same values of the third,
-//! in the same order). An expensive operation (a transcendental function,
-//! see [`expensive`]) whose operands do not depend on the third coordinate
-//! is computed once per run instead of once per point; on a grid, one whose
-//! operands depend on the third coordinate only, once per position in a run.
+//! in the same order).
+//!
+//! An expensive operation is a transcendental function (see
+//! [`expensive`]). One whose operands do not depend on the third
+//! coordinate is computed once per run instead of once per point. On a
+//! grid, one whose operands depend on the third coordinate only is computed
+//! once per position in a run.
 //! Cheap operations are recomputed per point: spreading a value over the
 //! lanes costs about as much as recomputing an addition.
 //!
@@ -270,19 +273,20 @@ fn retain_live<'p, T>(
 
 impl BatchEval {
     /// Evaluates output 0 at the points `(xs[i], ys[i], zs[i])` into
-    /// `out[i]`, as [`BatchEval::eval`] does (the same bits), for points
-    /// that lie on lines parallel to coordinate axis `axis` (0, 1, 2: x, y,
-    /// z): in every run of `len` points (the last may be shorter) the two
-    /// other coordinates are the same bits; `grid`: moreover every run has
-    /// the first run's values of the axis coordinate, in the same order.
+    /// `out[i]`, as [`BatchEval::eval`] does (the same bits).
+    ///
+    /// The points lie on lines parallel to coordinate axis `axis` (0, 1, 2:
+    /// x, y, z). In every run of `len` points (the last may be shorter) the
+    /// two other coordinates are the same bits. With `grid`, every run also
+    /// has the first run's values of the axis coordinate, in the same order.
     /// Expensive functions of the two other coordinates are then computed
     /// once per run, and on a grid those of the axis coordinate once per
     /// position in a run (see the module docs).
     ///
-    /// The points must have that shape: where they do not, each value is
-    /// unspecified (expensive operations read each run's first point, and on
+    /// The points must have that shape; where they do not, each value is
+    /// unspecified. Expensive operations read each run's first point, and on
     /// a grid the first run, while cheap ones read the point's own
-    /// coordinates; without a split plan every point is evaluated alone).
+    /// coordinates. Without a split plan every point is evaluated alone.
     ///
     /// # Panics
     /// If `axis > 2`, `len` is 0, or the four slices differ in length.

@@ -201,10 +201,11 @@ pub(super) fn binary_picks(
             }
         }
         BinaryOp::RUnion | BinaryOp::RInter | BinaryOp::RDiff => {
-            // sign(a | b) = sign(max(a, b)), sign(a & b) = sign(min(a, b)),
-            // sign(a \ b) = sign(min(a, -b)) in exact arithmetic; where the
-            // dropped argument has a fixed sign, the other one decides, and at
-            // its zero the gradient is its own (see the simplify module).
+            // In exact arithmetic sign(a | b) = sign(max(a, b)),
+            // sign(a & b) = sign(min(a, b)) and sign(a \ b) = sign(min(a, -b)).
+            // Where the dropped argument has a fixed sign, the other one
+            // decides. At its zero the gradient is its own (see the simplify
+            // module).
             let (ta, tb) = (a.tame(), b.tame());
             // The kept argument may be NaN, but not too large (its square).
             let a_ok = a.lo.abs().max(a.hi.abs()) <= SQUARE_SAFE;

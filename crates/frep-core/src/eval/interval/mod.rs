@@ -4,26 +4,28 @@
 //! that box.
 //!
 //! ## What an [`Interval`] means
-//! An interval bounds the values that the *bulk* evaluators compute (f64,
-//! runtime errors mapped to NaN, `Check` guards ignored) at every point of the
-//! box: every non-NaN value lies in `[lo, hi]` (infinities included), and
+//! An interval bounds the values that the *bulk* evaluators compute at every
+//! point of the box: f64, runtime errors mapped to NaN, `Check` guards
+//! ignored. Every non-NaN value lies in `[lo, hi]` (infinities included).
 //! `nan` is set when some point may give NaN. An interval with `lo > hi` has
 //! no non-NaN value: with `nan` set it is "always NaN" ([`Interval::NAN`]),
 //! without it "no value at all" ([`Interval::EMPTY`], only seen for
 //! unreachable cases).
 //!
 //! The bounds are those of the *computed* floating-point values, not of the
-//! real-number functions: correctly rounded operations (`+ - * /`, `sqrt`,
-//! `floor`, ...) are monotone after rounding, so their corner values are exact
-//! bounds; library functions (`sin`, `exp`, `atan2`, ...) are widened by a
-//! few ulps; composite formulas (R-functions, blends, powers) by a bound on
-//! their rounding error.
+//! real-number functions:
+//! - correctly rounded operations (`+ - * /`, `sqrt`, `floor`, ...) are
+//!   monotone after rounding, so their corner values are exact bounds;
+//! - library functions (`sin`, `exp`, `atan2`, ...) are widened by a few
+//!   ulps;
+//! - composite formulas (R-functions, blends, powers) are widened by a
+//!   bound on their rounding error.
 //!
 //! ## Rules
 //! * `min`/`max`, R-union and R-intersection are monotone non-decreasing in
-//!   both arguments, R-difference `a \ b` is increasing in `a` and decreasing
-//!   in `b`: their bounds come from the corners (this is what makes R-function
-//!   models prunable, see the notes on rendering and meshing).
+//!   both arguments. R-difference `a \ b` is increasing in `a` and
+//!   decreasing in `b`. Their bounds come from the corners, which is what
+//!   makes R-function models prunable.
 //! * `sin`/`cos` find the extrema inside the interval; `tan` is monotone
 //!   between poles (a pole inside gives `[-inf, inf]` and NaN); checked
 //!   operations set `nan` where their error region meets the interval.
