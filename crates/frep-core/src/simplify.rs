@@ -286,6 +286,19 @@ impl Simplifier {
         let n = tape.len();
         assert_eq!(choices.len(), n, "choices of another tape");
         assert!(n < CONST_BASE as usize, "tape too long to simplify");
+        self.mark(tape, choices, mode);
+        let out = self.rebuild(tape);
+        let stats = SimplifyStats {
+            before: n,
+            after: out.len(),
+        };
+        (out, stats)
+    }
+
+    /// Pass 1, parents before children: which nodes are live, whether their
+    /// exact value or only their sign is used, and what each becomes.
+    fn mark(&mut self, tape: &Tape, choices: &[Choice], mode: SimplifyMode) {
+        let n = tape.len();
         let flags = &mut self.flags;
         flags.clear();
         flags.resize(n, 0);
@@ -355,6 +368,14 @@ impl Simplifier {
             }
             rewrite[i] = r;
         }
+    }
+
+    /// Pass 2, in tape order: the simplified tape from the marks of
+    /// [`Simplifier::mark`].
+    fn rebuild(&mut self, tape: &Tape) -> Tape {
+        let n = tape.len();
+        let flags = &self.flags;
+        let rewrite = &self.rewrite[..n];
         let mut nodes = Vec::with_capacity(n);
         let map = &mut self.map[..n];
         // The ids of the constants `CONSTS` in the new tape, once pushed.
@@ -410,11 +431,7 @@ impl Simplifier {
         // it stands, no compaction needed.
         let out = Tape { nodes, outputs };
         debug_assert_eq!(out, Tape::from_nodes(&out.nodes, &out.outputs));
-        let stats = SimplifyStats {
-            before: n,
-            after: out.len(),
-        };
-        (out, stats)
+        out
     }
 }
 

@@ -400,8 +400,9 @@ impl BatchEval {
     }
 }
 
-/// Builds the register program computing `outputs`.
-fn compile(tape: &Tape, alias: &[u32], loc: &[Loc], outputs: &[NodeId]) -> Program {
+/// Which nodes the program computes, and the index of each one's last use
+/// (`u32::MAX` for outputs, which live to the end).
+fn liveness(tape: &Tape, alias: &[u32], loc: &[Loc], outputs: &[NodeId]) -> (Vec<bool>, Vec<u32>) {
     let n = tape.nodes.len();
     let res = |c: NodeId| alias[c.index()] as usize;
     // Needed varying nodes (guards of checks are skipped: `alias` resolves
@@ -429,7 +430,51 @@ fn compile(tape: &Tape, alias: &[u32], loc: &[Loc], outputs: &[NodeId]) -> Progr
     for &o in outputs {
         last[res(o)] = KEEP;
     }
+    (needed, last)
+}
 
+/// `sin a` and `cos a` of the same varying `a`, both needed, are computed
+/// together where the first of the two comes: `partner[first] = second`.
+/// The second is then only a register.
+fn sincos_partners(tape: &Tape, alias: &[u32], loc: &[Loc], needed: &[bool]) -> Vec<u32> {
+    let n = tape.nodes.len();
+    let res = |c: NodeId| alias[c.index()] as usize;
+    let mut partner = vec![u32::MAX; n];
+    let mut first_of = std::collections::HashMap::new();
+    for i in 0..n {
+        if !(needed[i] && loc[i] == Loc::Var) || alias[i] as usize != i {
+            continue;
+        }
+        if let Node::Unary(op @ (UnaryOp::Sin | UnaryOp::Cos), a) = tape.nodes[i] {
+            let a = res(a);
+            if loc[a] != Loc::Var {
+                continue;
+            }
+            let other = if op == UnaryOp::Sin {
+                UnaryOp::Cos
+            } else {
+                UnaryOp::Sin
+            };
+            match first_of.get(&(other, a)) {
+                Some(&f) if partner[f] == u32::MAX => partner[f] = i as u32,
+                _ => {
+                    first_of.entry((op, a)).or_insert(i);
+                }
+            }
+        }
+    }
+    partner
+}
+
+/// Builds the register program computing `outputs`.
+///
+/// The main loop is long but one pass: in tape order it allocates each
+/// node's register, emits its instruction and frees the operands' registers
+/// at their last use. The three steps must interleave, so they stay together.
+fn compile(tape: &Tape, alias: &[u32], loc: &[Loc], outputs: &[NodeId]) -> Program {
+    let n = tape.nodes.len();
+    let res = |c: NodeId| alias[c.index()] as usize;
+    let (needed, last) = liveness(tape, alias, loc, outputs);
     let mut st = Alloc {
         reg: vec![u32::MAX; n],
         n_regs: 3, // 0, 1, 2: x, y, z
@@ -437,35 +482,7 @@ fn compile(tape: &Tape, alias: &[u32], loc: &[Loc], outputs: &[NodeId]) -> Progr
         bcast: Vec::new(),
         bcast_of: std::collections::HashMap::new(),
     };
-    // `sin a` and `cos a` of the same varying `a`, both needed: computed
-    // together where the first of the two comes (`partner[first] =
-    // second`); the second is then only a register.
-    let mut partner = vec![u32::MAX; n];
-    {
-        let mut first_of = std::collections::HashMap::new();
-        for i in 0..n {
-            if !(needed[i] && loc[i] == Loc::Var) || alias[i] as usize != i {
-                continue;
-            }
-            if let Node::Unary(op @ (UnaryOp::Sin | UnaryOp::Cos), a) = tape.nodes[i] {
-                let a = res(a);
-                if loc[a] != Loc::Var {
-                    continue;
-                }
-                let other = if op == UnaryOp::Sin {
-                    UnaryOp::Cos
-                } else {
-                    UnaryOp::Sin
-                };
-                match first_of.get(&(other, a)) {
-                    Some(&f) if partner[f] == u32::MAX => partner[f] = i as u32,
-                    _ => {
-                        first_of.entry((op, a)).or_insert(i);
-                    }
-                }
-            }
-        }
-    }
+    let partner = sincos_partners(tape, alias, loc, &needed);
     let mut fused = vec![false; n];
     let mut xyz = [false; 3];
     let mut instrs = Vec::new();
