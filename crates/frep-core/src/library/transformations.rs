@@ -74,6 +74,23 @@ pub(super) fn rotate3d(
     Ok(c.k(1.0))
 }
 
+/// `(1 − t)·y1 + t·y2` with `t = (v − x1) / (x2 − x1)`, in the C code's
+/// order (twists interpolate the angle, tapers the scale).
+fn lerp_along(
+    c: &mut C,
+    v: NodeId,
+    (x1, x2): (NodeId, NodeId),
+    (y1, y2): (NodeId, NodeId),
+) -> NodeId {
+    let nu = c.sub(v, x1);
+    let de = c.sub(x2, x1);
+    let t = c.div(nu, de);
+    let omt = c.ksub(1.0, t);
+    let a = c.mul(omt, y1);
+    let b = c.mul(t, y2);
+    c.add(a, b)
+}
+
 pub(super) fn twist(
     g: &mut Graph,
     args: &mut [LibArg],
@@ -84,14 +101,7 @@ pub(super) fn twist(
     let mut xt = xt_arg(args, func)?;
     let (x1, x2) = (scalar(args, 1)?, scalar(args, 2)?);
     let (th1, th2) = (scalar(args, 3)?, scalar(args, 4)?);
-    // t = (xt - x1)/(x2 - x1); theta = (1-t)*theta1 + t*theta2
-    let nu = c.sub(xt[axis], x1);
-    let de = c.sub(x2, x1);
-    let t = c.div(nu, de);
-    let omt = c.ksub(1.0, t);
-    let a = c.mul(omt, th1);
-    let b = c.mul(t, th2);
-    let theta = c.add(a, b);
+    let theta = lerp_along(&mut c, xt[axis], (x1, x2), (th1, th2));
     let (p, q) = rot_pair(axis);
     rotate_pair(&mut c, &mut xt, p, q, theta);
     set_array(args, 0, xt);
@@ -109,13 +119,7 @@ pub(super) fn taper(
     let (x1, x2) = (scalar(args, 1)?, scalar(args, 2)?);
     let (s1, s2) = (scalar(args, 3)?, scalar(args, 4)?);
     let v = xt[axis];
-    let nu = c.sub(v, x1);
-    let de = c.sub(x2, x1);
-    let t = c.div(nu, de);
-    let omt = c.ksub(1.0, t);
-    let a = c.mul(omt, s1);
-    let b = c.mul(t, s2);
-    let lerp = c.add(a, b);
+    let lerp = lerp_along(&mut c, v, (x1, x2), (s1, s2));
     let above = c.gt(v, x2);
     let upper = c.sel(above, s2, lerp);
     let below = c.lt(v, x1);
