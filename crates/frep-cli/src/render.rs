@@ -8,8 +8,8 @@ use frep_core::eval::batch::BatchEval;
 use frep_core::{Inputs, Model};
 use frep_render::{
     encode, render_camera, render_view_set, sample_grid, slice_files, view_set_files, Aabb,
-    CancelToken, ImageFormat, ImagePool, ProgressivePlan, RenderSettings, SliceOptions,
-    ViewSetOptions,
+    CancelToken, ImageFormat, ImagePool, ProgressivePlan, RenderLimits, RenderSettings,
+    SliceOptions, ViewSetOptions,
 };
 
 use crate::bounds::{inputs, numbers};
@@ -118,8 +118,9 @@ pub fn render(args: RenderArgs) -> anyhow::Result<ExitCode> {
     let &[w, h] = size.as_slice() else {
         bail!("--size: expected W,H");
     };
-    if !(w >= 1.0 && h >= 1.0 && w <= 16384.0 && h <= 16384.0) {
-        bail!("--size: {w},{h} is outside 1..=16384");
+    let max = f64::from(RenderLimits::default().max_side);
+    if !(w >= 1.0 && h >= 1.0 && w <= max && h <= max) {
+        bail!("--size: {w},{h} is outside 1..={max}");
     }
     let inputs = inputs(args.param.as_deref())?;
     let settings = RenderSettings {

@@ -58,7 +58,7 @@ pub use image::{shade, DepthImage, Hit, HitBuffer, Image, ImagePool, Light, Ligh
 pub use progressive::{upscale_nearest, ProgressivePlan, ProgressiveStep};
 pub use raycast::{
     render, render_camera, render_hits, render_with, CastStats, ModelCaster, RenderError,
-    RenderSettings, Section, SectionError, SECTION_CAP,
+    RenderLimits, RenderSettings, Section, SectionError, SECTION_CAP,
 };
 pub use slices::{sample_grid, slice_files, Grid, SliceIndex, SliceOptions};
 pub use tiles::{cast_tiled, Tile, TileCaster};

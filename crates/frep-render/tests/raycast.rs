@@ -14,7 +14,7 @@ use frep_core::eval::Inputs;
 use frep_core::{Model, PointEval};
 use frep_render::{
     ascii_mask, cast_tiled, render, render_hits, shade, Aabb, Camera, CancelToken, CastStats,
-    HitBuffer, ImagePool, ModelCaster, RenderError, RenderSettings,
+    HitBuffer, ImagePool, ModelCaster, RenderError, RenderLimits, RenderSettings,
 };
 
 fn example(name: &str) -> String {
@@ -324,6 +324,17 @@ fn size_limits() {
     ));
     s.size = (20_000, 10);
     assert!(render(&model, &s, &CancelToken::new(), &ImagePool::default()).is_err());
+    // A configured limit holds and is named in the error.
+    s.size = (64, 64);
+    s.limits = RenderLimits {
+        max_side: 64,
+        max_pixels: 4000,
+    };
+    let e = render(&model, &s, &CancelToken::new(), &ImagePool::default()).unwrap_err();
+    assert!(matches!(e, RenderError::BadSize { limits, .. } if limits == s.limits));
+    assert!(e.to_string().contains("4000 pixels"), "{e}");
+    s.limits.max_pixels = 4096;
+    assert!(render_hits(&model, &s, &CancelToken::new()).is_ok());
 }
 
 /// The Android robot is green (#A4C639) with white eyes.

@@ -200,7 +200,7 @@ mod tile;
 pub use caster::{CastStats, ModelCaster};
 pub use render::{render, render_camera, render_hits, render_with};
 pub use section::{sectioned_tape, Section, SectionError, SECTION_CAP};
-pub use settings::{RenderError, RenderSettings};
+pub use settings::{RenderError, RenderLimits, RenderSettings};
 
 /// An interval evaluation costs about this many point evaluations (in a
 /// batch) of the same tape: the weight of a whole-ray check against the
@@ -236,8 +236,9 @@ const EXACT_BRACKET_PX: f64 = 1.0 / 8.0;
 /// [`TileCtx::quadric_block`]: crate::raycast::tile::TileCtx::quadric_block
 const QUAD_BLOCK: usize = (LEAF * LEAF) as usize;
 
-/// The largest image the renderer accepts: 16 384 pixels a side and 64
-/// megapixels in all.
+/// The largest image the renderer accepts by default
+/// ([`RenderLimits::default`]): 16 384 pixels a side and 64 megapixels in
+/// all.
 pub const MAX_SIDE: u32 = 16_384;
 /// See [`MAX_SIDE`].
 pub const MAX_PIXELS: u64 = 64 << 20;

@@ -41,8 +41,8 @@ pub fn render_hits(
     settings: &RenderSettings,
     cancel: &CancelToken,
 ) -> Result<HitBuffer, RenderError> {
+    check_size(settings.size, settings.limits)?;
     let (w, h) = settings.size;
-    check_size(w, h)?;
     let caster = make_caster(model, settings, cancel)?;
     let cam = settings.camera();
     let mut hits = cast_tiled(&caster, &cam, w, h, settings.tile_size.max(1));
@@ -97,8 +97,8 @@ pub fn render_with(
     cancel: &CancelToken,
     pool: &ImagePool,
 ) -> Result<Image, RenderError> {
+    check_size(settings.size, settings.limits)?;
     let (w, h) = settings.size;
-    check_size(w, h)?;
     let shader = Shader::new(camera, &settings.lighting, w, h);
     let ts = tiles(w, h, settings.tile_size.max(1));
     let mut img = Image {

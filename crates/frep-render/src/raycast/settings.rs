@@ -1,5 +1,5 @@
-//! What to render ([`RenderSettings`]) and why a render fails
-//! ([`RenderError`]).
+//! What to render ([`RenderSettings`]), the largest image it may ask for
+//! ([`RenderLimits`]) and why a render fails ([`RenderError`]).
 
 use frep_core::eval::Inputs;
 
@@ -34,6 +34,28 @@ pub struct RenderSettings {
     pub lighting: Lighting,
     /// A section plane cutting the solid open (`None`: the whole model).
     pub section: Option<Section>,
+    /// The largest image accepted.
+    pub limits: RenderLimits,
+}
+
+/// The largest image a render accepts; bigger sizes fail with
+/// [`RenderError::BadSize`]. The defaults are [`MAX_SIDE`] and
+/// [`MAX_PIXELS`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct RenderLimits {
+    /// Largest width or height, pixels.
+    pub max_side: u32,
+    /// Largest width × height.
+    pub max_pixels: u64,
+}
+
+impl Default for RenderLimits {
+    fn default() -> Self {
+        RenderLimits {
+            max_side: MAX_SIDE,
+            max_pixels: MAX_PIXELS,
+        }
+    }
 }
 
 impl Default for RenderSettings {
@@ -50,6 +72,7 @@ impl Default for RenderSettings {
             tile_size: 32,
             lighting: Lighting::default(),
             section: None,
+            limits: RenderLimits::default(),
         }
     }
 }
@@ -66,12 +89,14 @@ impl RenderSettings {
 pub enum RenderError {
     /// The [`CancelToken`](frep_core::CancelToken) was cancelled.
     Cancelled,
-    /// The size is zero or above [`MAX_SIDE`] / [`MAX_PIXELS`].
+    /// The size is zero or above the [`RenderLimits`].
     BadSize {
         /// Requested width.
         width: u32,
         /// Requested height.
         height: u32,
+        /// The limits it broke.
+        limits: RenderLimits,
     },
     /// The section plane is not a plane (see [`SectionError`]).
     ///
@@ -83,9 +108,14 @@ impl std::fmt::Display for RenderError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             RenderError::Cancelled => write!(f, "render cancelled"),
-            RenderError::BadSize { width, height } => write!(
+            RenderError::BadSize {
+                width,
+                height,
+                limits,
+            } => write!(
                 f,
-                "image size {width}x{height} is outside 1..={MAX_SIDE} a side, {MAX_PIXELS} pixels in all"
+                "image size {width}x{height} is outside 1..={} a side, {} pixels in all",
+                limits.max_side, limits.max_pixels
             ),
             RenderError::BadSection(why) => write!(f, "{why}"),
         }
@@ -94,14 +124,21 @@ impl std::fmt::Display for RenderError {
 
 impl std::error::Error for RenderError {}
 
-pub(super) fn check_size(width: u32, height: u32) -> Result<(), RenderError> {
+pub(super) fn check_size(
+    (width, height): (u32, u32),
+    limits: RenderLimits,
+) -> Result<(), RenderError> {
     if width == 0
         || height == 0
-        || width > MAX_SIDE
-        || height > MAX_SIDE
-        || width as u64 * height as u64 > MAX_PIXELS
+        || width > limits.max_side
+        || height > limits.max_side
+        || width as u64 * height as u64 > limits.max_pixels
     {
-        return Err(RenderError::BadSize { width, height });
+        return Err(RenderError::BadSize {
+            width,
+            height,
+            limits,
+        });
     }
     Ok(())
 }
