@@ -112,6 +112,9 @@ pub struct Limits {
     pub page_models: usize,
     /// Compiled models kept in memory.
     pub compile_cache: usize,
+    /// Spare image buffers kept for the next renders, bytes (artefact
+    /// workers and frame workers together); `0` keeps none.
+    pub image_pool_bytes: usize,
 }
 
 impl Default for Limits {
@@ -138,6 +141,7 @@ impl Default for Limits {
             asset_bytes: 4 << 20,
             page_models: 200,
             compile_cache: 256,
+            image_pool_bytes: 64 << 20,
         }
     }
 }
@@ -273,6 +277,7 @@ impl Config {
         c.cache_max_bytes = l.cache_bytes;
         c.workers = l.workers.max(1);
         c.queue_max = l.queue;
+        c.image_pool_bytes = l.image_pool_bytes;
         c.limits = frep_artefact::ArtefactLimits {
             max_image_pixels: l.image_max_pixels,
             max_image_side: l.image_max_side,
@@ -349,6 +354,14 @@ mod tests {
         assert_eq!(c.limits.workers, 3, "file over default");
         assert_eq!(c.data_dir, PathBuf::from("/tmp/x y"));
         assert_eq!(c.limits.queue, Limits::default().queue);
+    }
+
+    #[test]
+    fn the_image_pool_is_configured() {
+        let c = Config::load_from(None, env(&[])).unwrap();
+        assert_eq!(c.artefact_config().image_pool_bytes, 64 << 20);
+        let c = Config::load_from(None, env(&[("FREP_LIMIT_IMAGE_POOL_BYTES", "1000")])).unwrap();
+        assert_eq!(c.artefact_config().image_pool_bytes, 1000);
     }
 
     #[test]
