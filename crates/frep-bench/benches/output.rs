@@ -15,7 +15,7 @@ use std::time::Instant;
 use frep_render::synthetic::{sphere_hits, Spheres};
 use frep_render::{
     cast_tiled, encode, render_view_set, sample_grid, shade, slice_files, view_set_files, Aabb,
-    Camera, Image, ImageFormat, Lighting, OutFile, SliceOptions, ViewSetOptions,
+    Camera, CancelToken, Image, ImageFormat, Lighting, OutFile, SliceOptions, ViewSetOptions,
 };
 
 fn main() {
@@ -86,9 +86,10 @@ fn view_set_12x256() {
     let scene = Spheres::lattice_m2();
     let t = Instant::now();
     let opts = ViewSetOptions::default();
-    let set = render_view_set(&b, &opts, |cam, w, h| {
+    let set = render_view_set(&b, &opts, &CancelToken::new(), |cam, w, h| {
         shade(&cast_tiled(&scene, cam, w, h, 32), &Lighting::default())
-    });
+    })
+    .expect("not cancelled");
     println!(
         "render 12 views 256x256: {:.0} ms",
         t.elapsed().as_secs_f64() * 1e3
@@ -129,7 +130,7 @@ fn sphere(xs: &[f64], ys: &[f64], zs: &[f64], out: &mut [f64]) {
 fn volume_128() {
     let b = Aabb::new([-1.0; 3], [1.0; 3]);
     let t = Instant::now();
-    let g = sample_grid(&b, [128; 3], sphere);
+    let g = sample_grid(&b, [128; 3], &CancelToken::new(), sphere).expect("not cancelled");
     let sample_ms = t.elapsed().as_secs_f64() * 1e3;
     let dir = temp_dir("volume");
     let t = Instant::now();

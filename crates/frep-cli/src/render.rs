@@ -155,7 +155,7 @@ pub fn render(args: RenderArgs) -> anyhow::Result<ExitCode> {
             sheet_columns: None,
         };
         let failed = std::sync::Mutex::new(None);
-        let set = render_view_set(&settings.bounds, &opts, |cam, w, h| {
+        let set = render_view_set(&settings.bounds, &opts, &cancel, |cam, w, h| {
             let s = RenderSettings {
                 size: (w, h),
                 ..settings.clone()
@@ -168,6 +168,7 @@ pub fn render(args: RenderArgs) -> anyhow::Result<ExitCode> {
         if let Some(e) = failed.into_inner().unwrap_or_else(|p| p.into_inner()) {
             bail!("{e}");
         }
+        let set = set?;
         let files = view_set_files(&set)
             .with_context(|| format!("cannot write {}", args.output.display()))?;
         write_folder(&args.output, &files)?;
@@ -230,9 +231,9 @@ pub fn slices(args: SlicesArgs) -> anyhow::Result<ExitCode> {
     let tape = model.tape();
     // A batch is a grid of lines along x (see `sample_grid`): functions
     // of y and z are evaluated once per row, of x once per column.
-    let grid = sample_grid(&bounds, n, |xs, ys, zs, out| {
+    let grid = sample_grid(&bounds, n, &CancelToken::new(), |xs, ys, zs, out| {
         BatchEval::new(&tape).eval_lines(0, n[0], true, xs, ys, zs, &inputs, out)
-    });
+    })?;
     let (index, files) = slice_files(&grid, &SliceOptions::default())
         .with_context(|| format!("cannot write {}", args.output.display()))?;
     write_folder(&args.output, &files)?;

@@ -9,12 +9,14 @@
 //! - Byte 0 is kept for samples where the model failed (NaN), which read as
 //!   outside.
 
+use frep_core::CancelToken;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::camera::Aabb;
 use crate::encode::{encode_png_gray, EncodeError};
 use crate::files::OutFile;
+use crate::raycast::RenderError;
 
 /// Field samples on a regular grid.
 #[derive(Clone, Debug, PartialEq)]
@@ -102,8 +104,14 @@ impl Grid {
 /// `y` and one `z`, and every row the same `x`s (the same bits). So a batch
 /// is a grid of lines along x, for
 /// [`BatchEval::eval_lines`](frep_core::eval::batch::BatchEval::eval_lines)
-/// `(0, n[0], true, ..)`.
-pub fn sample_grid<F>(bounds: &Aabb, n: [usize; 3], f: F) -> Grid
+/// `(0, n[0], true, ..)`. Once `cancel` is cancelled the slices left are
+/// skipped and the result is [`RenderError::Cancelled`].
+pub fn sample_grid<F>(
+    bounds: &Aabb,
+    n: [usize; 3],
+    cancel: &CancelToken,
+    f: F,
+) -> Result<Grid, RenderError>
 where
     F: Fn(&[f64], &[f64], &[f64], &mut [f64]) + Sync,
 {
@@ -114,7 +122,7 @@ where
     };
     let slice = n[0] * n[1];
     if slice == 0 || n[2] == 0 {
-        return grid;
+        return Ok(grid);
     }
     let coord = |a: usize, i: usize| {
         bounds.min[a] + (i as f64 + 0.5) * (bounds.max[a] - bounds.min[a]) / n[a] as f64
@@ -130,6 +138,9 @@ where
         .par_chunks_mut(slice)
         .enumerate()
         .for_each(|(k, vals)| {
+            if cancel.is_cancelled() {
+                return;
+            }
             let zs = vec![coord(2, k); slice];
             let mut out = vec![f64::NAN; slice];
             f(&xs, &ys, &zs, &mut out);
@@ -137,7 +148,10 @@ where
                 *d = *s as f32;
             }
         });
-    grid
+    if cancel.is_cancelled() {
+        return Err(RenderError::Cancelled);
+    }
+    Ok(grid)
 }
 
 /// Field value to byte: `128 + 127 × v / scale`, rounded and clamped to
@@ -319,12 +333,13 @@ mod tests {
     #[test]
     fn samples_at_voxel_centres() {
         let b = Aabb::new([0.0; 3], [1.0, 2.0, 4.0]);
-        let g = sample_grid(&b, [2, 3, 4], |xs, ys, zs, out| {
+        let g = sample_grid(&b, [2, 3, 4], &CancelToken::new(), |xs, ys, zs, out| {
             assert_eq!(xs.len(), 6);
             for i in 0..out.len() {
                 out[i] = xs[i] + 10.0 * ys[i] + 100.0 * zs[i];
             }
-        });
+        })
+        .unwrap();
         assert_eq!(g.values.len(), 24);
         for (i, j, k) in [(0, 0, 0), (1, 2, 3), (1, 0, 2)] {
             let p = g.position(i, j, k);
@@ -340,7 +355,7 @@ mod tests {
     fn batches_are_grids_of_lines_along_x() {
         let b = Aabb::new([-0.3, 0.1, -2.0], [0.7, 2.0, 4.0]);
         let n = [5, 3, 4];
-        sample_grid(&b, n, |xs, ys, zs, out| {
+        sample_grid(&b, n, &CancelToken::new(), |xs, ys, zs, out| {
             assert_eq!(xs.len(), n[0] * n[1]);
             for (r, row) in xs.chunks(n[0]).enumerate() {
                 let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
@@ -351,7 +366,22 @@ mod tests {
                 }
             }
             out.fill(0.0);
+        })
+        .unwrap();
+    }
+
+    #[test]
+    fn a_cancelled_grid_samples_nothing() {
+        let b = Aabb::new([-1.0; 3], [1.0; 3]);
+        let cancel = CancelToken::new();
+        cancel.cancel();
+        let calls = std::sync::atomic::AtomicUsize::new(0);
+        let r = sample_grid(&b, [4, 4, 4], &cancel, |_, _, _, out| {
+            calls.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            out.fill(1.0);
         });
+        assert_eq!(r, Err(RenderError::Cancelled));
+        assert_eq!(calls.into_inner(), 0);
     }
 
     #[test]
@@ -376,11 +406,14 @@ mod tests {
     #[test]
     fn auto_scale_resolves_the_band() {
         let b = Aabb::new([-1.0; 3], [1.0; 3]);
-        let g = sample_grid(&b, [32, 32, 32], sphere);
+        let g = sample_grid(&b, [32, 32, 32], &CancelToken::new(), sphere).unwrap();
         let s = g.auto_scale(4.0);
         // |∇f| = 2r = 1.6 at the surface, voxel 1/16: a step is ~0.1.
         assert!(s > 0.25 && s < 0.6, "{s}");
-        let none = sample_grid(&b, [4, 4, 4], |_, _, _, out| out.fill(-3.0));
+        let none = sample_grid(&b, [4, 4, 4], &CancelToken::new(), |_, _, _, out| {
+            out.fill(-3.0)
+        })
+        .unwrap();
         assert_eq!(none.auto_scale(4.0), 3.0);
     }
 
@@ -388,7 +421,7 @@ mod tests {
     fn sphere_slices_and_volume() {
         let b = Aabb::new([-1.0; 3], [1.0; 3]);
         let n = [20, 16, 12];
-        let mut g = sample_grid(&b, n, sphere);
+        let mut g = sample_grid(&b, n, &CancelToken::new(), sphere).unwrap();
         g.values[0] = f32::NAN;
         let (idx, files) = slice_files(&g, &SliceOptions::default()).unwrap();
         assert_eq!(idx.pngs.len(), 12);
@@ -429,7 +462,7 @@ mod tests {
     #[test]
     fn given_scale_and_no_pngs() {
         let b = Aabb::new([-1.0; 3], [1.0; 3]);
-        let g = sample_grid(&b, [4, 4, 4], sphere);
+        let g = sample_grid(&b, [4, 4, 4], &CancelToken::new(), sphere).unwrap();
         let opts = SliceOptions {
             scale: Some(2.0),
             pngs: false,

@@ -3,6 +3,7 @@
 //! one sprite sheet and a JSON index ([`view_set_files`]; the caller writes
 //! them).
 
+use frep_core::CancelToken;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -10,6 +11,7 @@ use crate::camera::{Aabb, Camera, Projection};
 use crate::encode::{encode, EncodeError, ImageFormat};
 use crate::files::OutFile;
 use crate::image::Image;
+use crate::raycast::RenderError;
 
 /// What to render.
 #[derive(Clone, Debug, PartialEq)]
@@ -203,8 +205,15 @@ fn sheet_grid(opts: &ViewSetOptions, count: u32) -> (u32, u32) {
 
 /// Renders every view with `render(camera, width, height)` (in parallel
 /// across views) and lays them out on a sprite sheet. A rendered image of the
-/// wrong size is cropped or padded (transparent) to the view size.
-pub fn render_view_set<R>(bounds: &Aabb, opts: &ViewSetOptions, render: R) -> ViewSet
+/// wrong size is cropped or padded (transparent) to the view size. Once
+/// `cancel` is cancelled the views left are not rendered and the result is
+/// [`RenderError::Cancelled`].
+pub fn render_view_set<R>(
+    bounds: &Aabb,
+    opts: &ViewSetOptions,
+    cancel: &CancelToken,
+    render: R,
+) -> Result<ViewSet, RenderError>
 where
     R: Fn(&Camera, u32, u32) -> Image + Sync,
 {
@@ -213,6 +222,9 @@ where
     let images: Vec<Image> = cams
         .par_iter()
         .map(|(_, _, _, cam)| {
+            if cancel.is_cancelled() {
+                return Image::filled(w, h, [0; 4]);
+            }
             let img = render(cam, w, h);
             if img.width == w && img.height == h {
                 img
@@ -223,6 +235,9 @@ where
             }
         })
         .collect();
+    if cancel.is_cancelled() {
+        return Err(RenderError::Cancelled);
+    }
     let (cols, rows) = sheet_grid(opts, cams.len() as u32);
     let mut sheet = Image::filled(cols * w, rows * h, [0, 0, 0, 255]);
     let ext = opts.format.extension();
@@ -266,11 +281,11 @@ where
         },
         views,
     };
-    ViewSet {
+    Ok(ViewSet {
         index,
         images,
         sheet,
-    }
+    })
 }
 
 /// The files of a view set: `view_NNN.ext` for each view, `sheet.ext`,
@@ -331,7 +346,7 @@ mod tests {
             format: ImageFormat::Png,
             ..Default::default()
         };
-        let set = render_view_set(&b, &opts, sphere_renderer);
+        let set = render_view_set(&b, &opts, &CancelToken::new(), sphere_renderer).unwrap();
         assert_eq!(set.images.len(), 12);
         assert_eq!((set.sheet.width, set.sheet.height), (6 * 48, 2 * 32));
         // View 0 and view 3 (half a turn apart) see the sphere on opposite sides.
@@ -393,7 +408,11 @@ mod tests {
             ..Default::default()
         };
         // The renderer returns a wrong size: it is padded.
-        let set = render_view_set(&b, &opts, |_, _, _| Image::filled(3, 3, [1, 2, 3, 255]));
+        let cancel = CancelToken::new();
+        let set = render_view_set(&b, &opts, &cancel, |_, _, _| {
+            Image::filled(3, 3, [1, 2, 3, 255])
+        })
+        .unwrap();
         assert_eq!(set.index.sheet.columns, 6);
         assert_eq!(set.index.sheet.rows, 6);
         assert_eq!(set.images[0].width, 512);
@@ -403,5 +422,15 @@ mod tests {
             set.index.views[0].camera.projection,
             Projection::Orthographic { .. }
         ));
+        // Cancelled after the first view: no more renders, and an error.
+        let calls = std::sync::atomic::AtomicUsize::new(0);
+        let r = render_view_set(&b, &opts, &cancel, |_, w, h| {
+            calls.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            cancel.cancel();
+            Image::filled(w, h, [0; 4])
+        });
+        assert_eq!(r.err(), Some(RenderError::Cancelled));
+        // (Views already started on other threads may finish.)
+        assert!(calls.into_inner() <= rayon::current_num_threads());
     }
 }

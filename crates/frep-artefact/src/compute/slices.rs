@@ -36,16 +36,11 @@ pub fn volume(
     let bounds = compiled.aabb();
     let tape = compiled.model().tape();
     let done = AtomicUsize::new(0);
-    let grid = sample_grid(&bounds, [n; 3], |xs, ys, zs, out| {
-        // Slices after a cancel are left NaN; the result is dropped.
-        if cancel.is_cancelled() {
-            return;
-        }
+    let grid = sample_grid(&bounds, [n; 3], cancel.token(), |xs, ys, zs, out| {
         BatchEval::new(&tape).eval_lines(0, n, true, xs, ys, zs, inputs, out);
         let k = done.fetch_add(1, Ordering::Relaxed) + 1;
         progress.set(0.95 * k as f64 / n as f64);
-    });
-    cancel.check()?;
+    })?;
     let scale = grid.auto_scale(BAND_VOXELS);
     let layout = VolumeLayout {
         dims: [n as u32; 3],

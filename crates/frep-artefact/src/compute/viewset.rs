@@ -131,7 +131,7 @@ pub fn sheet(
     let total = (l.views_per_ring * l.elevations.len() as u32).max(1);
     let done = AtomicU32::new(0);
     let failed = Mutex::new(None::<ArtefactError>);
-    let set = render_view_set(&settings.bounds, &opts, |cam, w, h| {
+    let set = render_view_set(&settings.bounds, &opts, cancel.token(), |cam, w, h| {
         let s = frep_render::RenderSettings {
             size: (w, h),
             ..settings.clone()
@@ -148,10 +148,11 @@ pub fn sheet(
             Image::filled(w, h, [0, 0, 0, 255])
         })
     });
+    // The first error, not the cancel it caused.
     if let Some(e) = failed.into_inner().unwrap_or_else(|p| p.into_inner()) {
         return Err(e);
     }
-    cancel.check()?;
+    let set = set?;
     let bytes = encode(&set.sheet, format, opts.quality);
     for img in set.images {
         pool.recycle(img);
