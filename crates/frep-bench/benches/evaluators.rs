@@ -2,10 +2,12 @@
 //!
 //! Run: `cargo bench -p frep-bench --bench evaluators` (extra arguments go
 //! to criterion, e.g. a filter: `-- m3_gyroid`). Criterion ids:
-//! - `evaluators/<model>/<batch|grad|point>`: the 32³ = 32,768 cell centres
-//!   of a grid over the anchor model's `-- bounds:` box (M1–M4). `batch` is
-//!   `BatchEval`, `grad` is `GradEval::eval_batch` (value and gradient),
-//!   `point` is `PointEval` called once per point (the reference).
+//! - `evaluators/<model>/<batch|batch-grad|grad|point>`: the 32³ = 32,768
+//!   cell centres of a grid over the anchor model's `-- bounds:` box
+//!   (M1–M4). `batch` is `BatchEval::eval`, `batch-grad` is
+//!   `BatchEval::eval_grad` (value and gradient, vectorised), `grad` is
+//!   `GradEval::eval_batch` (value and gradient, one point at a time) and
+//!   `point` is `PointEval`, once per point (the reference).
 //! - `simd/<sin|cos|exp|ln|atan>/<vector|std>`: 65,536 arguments in
 //!   `[-10, 10)`, `simd_math`'s slice functions against `std` per lane.
 //!
@@ -14,7 +16,7 @@
 //! `core` bench.
 
 use criterion::{Criterion, Throughput};
-use frep_core::eval::batch::BatchEval;
+use frep_core::eval::batch::{BatchEval, GradRegs};
 use frep_core::eval::grad::{Grad, GradEval};
 use frep_core::eval::simd_math as sm;
 use frep_core::{Inputs, Model, PointEval, Tape};
@@ -78,14 +80,21 @@ fn bench_evaluators(c: &mut Criterion, cases: &[Case]) {
         group.throughput(Throughput::Elements(n as u64));
         let mut batch = BatchEval::new(&case.tape);
         let mut out = vec![0.0; n];
+        let mut gout = vec![Grad::default(); n];
         group.bench_function("batch", |b| {
             b.iter(|| {
                 batch.eval(xs, ys, zs, &inputs, &mut out);
                 black_box(out[n / 2])
             })
         });
+        let mut regs = GradRegs::default();
+        group.bench_function("batch-grad", |b| {
+            b.iter(|| {
+                batch.eval_grad(xs, ys, zs, &inputs, &mut regs, &mut gout);
+                black_box(gout[n / 2])
+            })
+        });
         let mut grad = GradEval::new(&case.tape);
-        let mut gout = vec![Grad::default(); n];
         group.bench_function("grad", |b| {
             b.iter(|| {
                 grad.eval_batch(xs, ys, zs, &inputs, &mut gout);
