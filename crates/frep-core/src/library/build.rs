@@ -55,7 +55,7 @@ impl C<'_> {
         let k = self.k(k);
         self.mul(k, a)
     }
-    pub(super) fn un(&mut self, op: UnaryOp, a: NodeId) -> NodeId {
+    fn un(&mut self, op: UnaryOp, a: NodeId) -> NodeId {
         self.g.unary(op, a)
     }
     pub(super) fn neg(&mut self, a: NodeId) -> NodeId {

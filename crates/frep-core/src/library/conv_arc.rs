@@ -17,17 +17,11 @@ use crate::ops::EPS;
 
 /// `PI` of `hfConvArc.c` (deliberately the truncated value).
 #[allow(clippy::approx_constant)]
-pub(super) const ARC_PI: f64 = 3.141592;
+const ARC_PI: f64 = 3.141592;
 
 /// Rotation coefficients of `hfConvArc.c` for the unit axis `(i, j, k)` and
 /// `c = cos`, `s = sin` of the angle: applied to `v` as the C code does.
-pub(super) fn arc_rotate(
-    c: &mut C,
-    ijk: [NodeId; 3],
-    cs: NodeId,
-    sn: NodeId,
-    v: [NodeId; 3],
-) -> [NodeId; 3] {
+fn arc_rotate(c: &mut C, ijk: [NodeId; 3], cs: NodeId, sn: NodeId, v: [NodeId; 3]) -> [NodeId; 3] {
     let [i, j, k] = ijk;
     let one_c = c.ksub(1.0, cs);
     let ii = c.mul(i, i);
@@ -65,7 +59,7 @@ pub(super) fn arc_rotate(
 
 /// `f1 + f2` of `hfConvArc.c`: the arc of radius `r` over `[0, th]` (radians)
 /// in the local frame, at the local point `(nx, ny, nz)`.
-pub(super) fn arc_kernel(c: &mut C, r: NodeId, s: NodeId, n: [NodeId; 3], th: NodeId) -> NodeId {
+fn arc_kernel(c: &mut C, r: NodeId, s: NodeId, n: [NodeId; 3], th: NodeId) -> NodeId {
     let [nx, ny, nz] = n;
     let ss = c.sq(s);
     let rr = c.sq(r);

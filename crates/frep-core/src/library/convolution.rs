@@ -145,7 +145,7 @@ fn line_integral(
 
 /// The Cauchy line-segment kernel of `hfConvLine.c` for segment `b → e`
 /// with width `s`, at point `x`, added to `f`.
-pub(super) fn conv_segment(
+fn conv_segment(
     c: &mut C,
     f: NodeId,
     x: [NodeId; 3],
@@ -160,7 +160,7 @@ pub(super) fn conv_segment(
 }
 
 /// A [`LibError`] when the segment `b → e` is constant and of length 0.
-pub(super) fn check_segment(
+fn check_segment(
     c: &mut C,
     b: [NodeId; 3],
     e: [NodeId; 3],

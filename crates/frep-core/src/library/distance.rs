@@ -8,9 +8,9 @@ use super::{LibArg, LibError, SENTINEL};
 use crate::graph::{Graph, NodeId};
 
 /// `-11111111111.0`: the distance cones' sentinel.
-pub(super) const SENTINEL_DCONE: f64 = -11111111111.0;
+const SENTINEL_DCONE: f64 = -11111111111.0;
 /// `-11111111111.1`: `hfDCylinder`'s sentinel.
-pub(super) const SENTINEL_DCYL: f64 = -11111111111.1;
+const SENTINEL_DCYL: f64 = -11111111111.1;
 
 pub(super) fn dcone(
     g: &mut Graph,

@@ -35,7 +35,7 @@ pub(super) fn hf_ellipsoid(g: &mut Graph, args: &mut [LibArg]) -> Result<NodeId,
 }
 
 /// `1. - t0*t0 - t1*t1 - ...`
-pub(super) fn one_minus_squares(c: &mut C, ts: &[NodeId]) -> NodeId {
+fn one_minus_squares(c: &mut C, ts: &[NodeId]) -> NodeId {
     let mut f = c.k(1.0);
     for &t in ts {
         let t2 = c.sq(t);
@@ -46,13 +46,7 @@ pub(super) fn one_minus_squares(c: &mut C, ts: &[NodeId]) -> NodeId {
 
 /// `r0*r0 - u*u - v*v - w*w - R*R + 2*R*sqrt(s)` where `(u, v, w)` are the
 /// squares in the C code's order and `s` the sqrt argument.
-pub(super) fn torus_tail(
-    c: &mut C,
-    r0: NodeId,
-    big_r: NodeId,
-    sq: [NodeId; 3],
-    s: NodeId,
-) -> NodeId {
+fn torus_tail(c: &mut C, r0: NodeId, big_r: NodeId, sq: [NodeId; 3], s: NodeId) -> NodeId {
     let mut f = c.sq(r0);
     for q in sq {
         f = c.sub(f, q);
@@ -207,7 +201,7 @@ pub(super) fn hf_superell(g: &mut Graph, args: &mut [LibArg]) -> Result<NodeId, 
 /// and their count `N = size(x0)`, checking that `others` (argument index,
 /// name) have at least `N` items too.
 #[allow(clippy::type_complexity)]
-pub(super) fn blob_arrays(
+fn blob_arrays(
     args: &[LibArg],
     func: &str,
     others: &[(usize, &str)],
@@ -224,7 +218,7 @@ pub(super) fn blob_arrays(
 }
 
 /// `(x - x0[i], y - y0[i], z - z0[i])`
-pub(super) fn blob_d(c: &mut C, x: &[NodeId], ctr: &[Vec<NodeId>; 3], i: usize) -> [NodeId; 3] {
+fn blob_d(c: &mut C, x: &[NodeId], ctr: &[Vec<NodeId>; 3], i: usize) -> [NodeId; 3] {
     [
         c.sub(x[0], ctr[0][i]),
         c.sub(x[1], ctr[1][i]),
@@ -234,7 +228,7 @@ pub(super) fn blob_d(c: &mut C, x: &[NodeId], ctr: &[Vec<NodeId>; 3], i: usize) 
 
 /// The point array of the blob primitives: only its first 3 items are read
 /// (the C code does not check its size).
-pub(super) fn blob_point(args: &[LibArg], func: &str) -> Result<Vec<NodeId>, LibError> {
+fn blob_point(args: &[LibArg], func: &str) -> Result<Vec<NodeId>, LibError> {
     array_min(args, 0, 3, func, "x")
 }
 

@@ -8,7 +8,7 @@ use super::{LibArg, LibError};
 use crate::graph::{Graph, NodeId};
 
 /// The array to transform (argument 0), which must have at least 3 items.
-pub(super) fn xt_arg(args: &[LibArg], func: &str) -> Result<Vec<NodeId>, LibError> {
+fn xt_arg(args: &[LibArg], func: &str) -> Result<Vec<NodeId>, LibError> {
     array_min(args, 0, 3, func, "xt")
 }
 
@@ -36,7 +36,7 @@ pub(super) fn hf_shift3d(g: &mut Graph, args: &mut [LibArg]) -> Result<NodeId, L
 
 /// Rotates the pair `(xt[p], xt[q])` by `theta`:
 /// `(p*ct + q*st, -p*st + q*ct)`.
-pub(super) fn rotate_pair(c: &mut C, xt: &mut [NodeId], p: usize, q: usize, theta: NodeId) {
+fn rotate_pair(c: &mut C, xt: &mut [NodeId], p: usize, q: usize, theta: NodeId) {
     let ct = c.cos(theta);
     let st = c.sin(theta);
     let a = c.mul(xt[p], ct);
@@ -51,7 +51,7 @@ pub(super) fn rotate_pair(c: &mut C, xt: &mut [NodeId], p: usize, q: usize, thet
 }
 
 /// The rotated pair of each axis: X rotates (y, z), Y (z, x), Z (x, y).
-pub(super) fn rot_pair(axis: usize) -> (usize, usize) {
+fn rot_pair(axis: usize) -> (usize, usize) {
     match axis {
         0 => (1, 2),
         1 => (2, 0),

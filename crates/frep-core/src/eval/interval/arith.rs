@@ -28,7 +28,7 @@ pub fn next_down(x: f64) -> f64 {
 /// Whether `ulps` steps from `x` are plain steps of its bits: a normal
 /// number, away from zero and the infinities.
 #[inline(always)]
-pub(super) fn bit_steps(x: f64) -> bool {
+fn bit_steps(x: f64) -> bool {
     (f64::MIN_POSITIVE..=1e300).contains(&x.abs())
 }
 
@@ -325,7 +325,7 @@ pub(super) fn sqr(a: Interval) -> Interval {
 }
 
 /// `a / [blo, bhi]` for a divisor interval without 0.
-pub(super) fn div_part(a: Interval, blo: f64, bhi: f64, nan: bool) -> Interval {
+fn div_part(a: Interval, blo: f64, bhi: f64, nan: bool) -> Interval {
     corners([a.lo / blo, a.lo / bhi, a.hi / blo, a.hi / bhi], nan)
 }
 

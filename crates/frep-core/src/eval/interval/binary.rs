@@ -68,7 +68,7 @@ pub(super) fn blend_iv(op: BlendOp, [f1, f2, a0, a1, a2]: [Interval; 5]) -> Inte
     add(r, div_ieee(a0, q))
 }
 
-pub(super) fn atan2_iv(y: Interval, x: Interval) -> Interval {
+fn atan2_iv(y: Interval, x: Interval) -> Interval {
     if y.is_empty() || x.is_empty() {
         return none(y.nan || x.nan);
     }
@@ -88,7 +88,7 @@ pub(super) fn atan2_iv(y: Interval, x: Interval) -> Interval {
     }
 }
 
-pub(super) fn mod_iv(a: Interval, b: Interval) -> Interval {
+fn mod_iv(a: Interval, b: Interval) -> Interval {
     if a.is_empty() || b.is_empty() {
         return none(a.nan || b.nan);
     }
@@ -116,7 +116,7 @@ pub(super) fn mod_iv(a: Interval, b: Interval) -> Interval {
 /// Bounds of `b^e` for `b > 0` over the box, computed either as
 /// `exp(e ln b)` or by repeated multiplication: `b^e` is monotone in each
 /// argument, so the corners bound it; widened by the relative rounding error.
-pub(super) fn pow_pos(b: Interval, e: Interval) -> Interval {
+fn pow_pos(b: Interval, e: Interval) -> Interval {
     let c = [
         b.lo.powf(e.lo),
         b.lo.powf(e.hi),
@@ -132,7 +132,7 @@ pub(super) fn pow_pos(b: Interval, e: Interval) -> Interval {
 }
 
 /// HyperFun's checked `b ^ e` ([`ops::hf_pow`]).
-pub(super) fn hf_pow_iv(b: Interval, e: Interval) -> Interval {
+fn hf_pow_iv(b: Interval, e: Interval) -> Interval {
     if e.lo == e.hi && !e.nan && e.lo.is_finite() {
         let ev = e.lo;
         if ev - ev.floor() < EPS {
@@ -239,7 +239,7 @@ pub(super) fn powi_iv(b: Interval, n: i32) -> Interval {
 }
 
 /// C's `pow`.
-pub(super) fn powf_iv(b: Interval, e: Interval) -> Interval {
+fn powf_iv(b: Interval, e: Interval) -> Interval {
     let mut r = none(b.nan || e.nan);
     if b.nan && e.has(0.0) {
         r = r.hull(Interval::point(1.0));
@@ -272,7 +272,7 @@ pub(super) fn powf_iv(b: Interval, e: Interval) -> Interval {
     r.hull(make(-mag.hi, mag.hi, nan || mag.nan))
 }
 
-pub(super) fn compare(op: BinaryOp, a: Interval, b: Interval) -> Interval {
+fn compare(op: BinaryOp, a: Interval, b: Interval) -> Interval {
     let ne = !a.is_empty() && !b.is_empty();
     let an = a.nan || b.nan;
     let (t, f) = match op {

@@ -74,7 +74,7 @@ pub(crate) fn is_bool_node(n: &Node) -> bool {
     )
 }
 
-pub(super) fn all_truthy(a: Interval) -> bool {
+fn all_truthy(a: Interval) -> bool {
     !a.nan && !a.is_empty() && (a.lo >= EPS || a.hi <= -EPS)
 }
 
@@ -165,7 +165,7 @@ pub(super) fn decided_of(r: Interval) -> Decided {
 }
 
 /// The exact and sign picks of a binary node.
-pub(super) fn binary_picks(
+fn binary_picks(
     op: BinaryOp,
     a: Interval,
     b: Interval,

@@ -51,7 +51,7 @@ pub(super) enum Op {
 
 /// The bit of input `x[k]` in a mask of inputs: `x`, `y` and `z` one each,
 /// every other input (extra coordinates, parameters) the fourth.
-pub(super) fn input_bit(k: u32) -> u8 {
+fn input_bit(k: u32) -> u8 {
     if k < 3 {
         1 << k
     } else {
@@ -60,10 +60,10 @@ pub(super) fn input_bit(k: u32) -> u8 {
 }
 
 /// The bit of every input but `x`, `y` and `z` (see [`input_bit`]).
-pub(super) const OTHER_INPUTS: u8 = 1 << 3;
+const OTHER_INPUTS: u8 = 1 << 3;
 
 /// Every input's bit.
-pub(super) const ALL_INPUTS: u8 = 0b1111;
+const ALL_INPUTS: u8 = 0b1111;
 
 /// An operation and the node it computes.
 #[derive(Clone, Copy, Debug)]

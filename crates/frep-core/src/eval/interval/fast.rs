@@ -15,14 +15,14 @@ use crate::ops::{self, BinaryOp, EPS};
 
 /// Nonempty with finite bounds.
 #[inline(always)]
-pub(super) fn finite1(a: Interval) -> bool {
+fn finite1(a: Interval) -> bool {
     let w = a.hi - a.lo;
     (0.0..f64::INFINITY).contains(&w)
 }
 
 /// Both nonempty with finite bounds (or a conservative no).
 #[inline(always)]
-pub(super) fn finite2(a: Interval, b: Interval) -> bool {
+fn finite2(a: Interval, b: Interval) -> bool {
     let (wa, wb) = (a.hi - a.lo, b.hi - b.lo);
     (wa >= 0.0) & (wb >= 0.0) & (wa + wb < f64::INFINITY)
 }

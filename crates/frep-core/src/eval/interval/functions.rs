@@ -86,7 +86,7 @@ pub(super) fn quarter_extremes(t: &simd_math::TrigEnds, m: f64) -> [bool; 4] {
 /// The NaN flag of `sin a` / `cos a` where its ends are worth evaluating;
 /// `None` where [`trig_whole`] is the answer (empty, unbounded, a whole
 /// period or more, or too large to reduce).
-pub(super) fn trig_guard(a: Interval) -> Option<bool> {
+fn trig_guard(a: Interval) -> Option<bool> {
     let mag = a.lo.abs().max(a.hi.abs());
     if a.is_empty() || a.has_inf() || a.hi - a.lo >= 2.0 * PI || mag > 1e9 {
         None
@@ -97,7 +97,7 @@ pub(super) fn trig_guard(a: Interval) -> Option<bool> {
 
 /// `sin a` / `cos a` where [`trig_guard`] gives up: empty stays empty,
 /// otherwise `[-1, 1]` (NaN possible where `a` holds an infinity).
-pub(super) fn trig_whole(a: Interval) -> Interval {
+fn trig_whole(a: Interval) -> Interval {
     if a.is_empty() {
         a
     } else {
@@ -107,7 +107,7 @@ pub(super) fn trig_whole(a: Interval) -> Interval {
 
 /// A sine-like function over an interval from its values `fl`, `fh` at
 /// the ends, and whether the interval holds a maximum / a minimum.
-pub(super) fn trig_part(nan: bool, fl: f64, fh: f64, has_max: bool, has_min: bool) -> Interval {
+fn trig_part(nan: bool, fl: f64, fh: f64, has_max: bool, has_min: bool) -> Interval {
     if has_max && has_min {
         // Both extremes inside: the ends do not matter.
         return make(-1.0, 1.0, nan);
@@ -136,7 +136,7 @@ pub(super) fn tan(a: Interval) -> Interval {
 }
 
 /// A non-decreasing library function applied to the endpoints, widened.
-pub(super) fn mono(a: Interval, f: fn(f64) -> f64) -> Interval {
+fn mono(a: Interval, f: fn(f64) -> f64) -> Interval {
     if a.is_empty() {
         return a;
     }
@@ -144,14 +144,14 @@ pub(super) fn mono(a: Interval, f: fn(f64) -> f64) -> Interval {
 }
 
 /// A non-decreasing, correctly rounded or exact function of the endpoints.
-pub(super) fn mono_exact(a: Interval, f: fn(f64) -> f64) -> Interval {
+fn mono_exact(a: Interval, f: fn(f64) -> f64) -> Interval {
     if a.is_empty() {
         return a;
     }
     make(f(a.lo), f(a.hi), a.nan)
 }
 
-pub(super) fn log_iv(a: Interval, f: fn(f64) -> f64) -> Interval {
+fn log_iv(a: Interval, f: fn(f64) -> f64) -> Interval {
     if a.is_empty() {
         return a;
     }
@@ -174,7 +174,7 @@ pub(super) fn sqrt_iv(a: Interval) -> Interval {
     make(a.lo.max(0.0).sqrt(), a.hi.sqrt(), nan)
 }
 
-pub(super) fn asin_acos(a: Interval, is_acos: bool) -> Interval {
+fn asin_acos(a: Interval, is_acos: bool) -> Interval {
     if a.is_empty() {
         return a;
     }
@@ -191,7 +191,7 @@ pub(super) fn asin_acos(a: Interval, is_acos: bool) -> Interval {
     widen(r, LIBM_ULPS)
 }
 
-pub(super) fn abs_iv(a: Interval) -> Interval {
+fn abs_iv(a: Interval) -> Interval {
     if a.is_empty() {
         return a;
     }
@@ -204,7 +204,7 @@ pub(super) fn abs_iv(a: Interval) -> Interval {
     }
 }
 
-pub(super) fn cosh_iv(a: Interval) -> Interval {
+fn cosh_iv(a: Interval) -> Interval {
     if a.is_empty() {
         return a;
     }
@@ -213,7 +213,7 @@ pub(super) fn cosh_iv(a: Interval) -> Interval {
     widen(make(lo, cl.max(ch), a.nan), LIBM_ULPS)
 }
 
-pub(super) fn exp_iv(a: Interval) -> Interval {
+fn exp_iv(a: Interval) -> Interval {
     let r = mono(a, f64::exp);
     if r.is_empty() {
         r
@@ -222,7 +222,7 @@ pub(super) fn exp_iv(a: Interval) -> Interval {
     }
 }
 
-pub(super) fn frac_iv(a: Interval) -> Interval {
+fn frac_iv(a: Interval) -> Interval {
     if a.is_empty() {
         return a;
     }
