@@ -178,6 +178,7 @@ fn check(src: &str, line: u32, col: u32, msg: &str, expected: Option<&str>) {
     assert_eq!(d.expected.as_deref(), expected, "{src:?}: {d}");
 }
 
+/// A list of cases, one `check` each: long, but flat.
 #[test]
 fn error_positions_and_expectations() {
     // Missing semicolon: reported at the next token.

@@ -3,6 +3,7 @@
 
 use super::*;
 
+/// One formula per primitive, one block each: long, but flat.
 #[test]
 fn simple_primitives_match_spec_formulas() {
     let c = [0.2, -0.3, 0.4];

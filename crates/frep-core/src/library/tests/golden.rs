@@ -45,6 +45,7 @@ fn check_golden(model: &str, f: impl Fn([f64; 3]) -> f64) -> usize {
     exact
 }
 
+/// One golden file per primitive, one block each: long, but flat.
 #[test]
 fn golden_primitives() {
     let mut total = 0;
