@@ -25,16 +25,11 @@
  * Environment: FREP_BENCH_REPS (3), FREP_BENCH_URL (use a running server),
  * FREP_BIN, FREP_CHROMIUM, FREP_BENCH_SIZE (viewer box, 512 px).
  */
-import { spawn, execSync } from 'node:child_process';
-import { mkdtempSync, readFileSync, rmSync, writeFileSync, existsSync } from 'node:fs';
-import { createServer } from 'node:net';
-import { tmpdir, cpus } from 'node:os';
-import { join, resolve } from 'node:path';
+import { readFileSync, writeFileSync, existsSync } from 'node:fs';
+import { join } from 'node:path';
 import { chromium } from 'playwright-core';
-import { build } from 'vite';
+import { web, repo, CHROMIUM, CHROMIUM_ARGS, startServer, bundle, bounded, stat, firstErr, machine } from './bench-common.mjs';
 
-const web = resolve(import.meta.dirname, '..');
-const repo = resolve(web, '..');
 const argv = process.argv.slice(2);
 const QUICK = argv.includes('--quick');
 const outArg = argv.indexOf('--out');
@@ -42,108 +37,11 @@ const OUT = outArg >= 0 ? resolve(argv[outArg + 1]) : QUICK ? null : join(repo, 
 const REPS = QUICK ? 1 : Math.max(1, Number(process.env.FREP_BENCH_REPS ?? 3));
 const CASE_MS = Number(process.env.FREP_BENCH_CASE_TIMEOUT_MS ?? 60_000);
 const SIZE = Number(process.env.FREP_BENCH_SIZE ?? 512);
-const CHROMIUM = process.env.FREP_CHROMIUM ?? '/usr/lib/chromium/chromium';
-/** The same flags as web/tests/e2e/support/env.ts. */
-const CHROMIUM_ARGS = ['--headless', '--no-sandbox', '--no-first-run', '--disable-background-networking', '--disable-component-update', '--disable-sync', '--disable-quic', '--enable-unsafe-swiftshader'];
 const ALL_EXAMPLES = ['sphere', 'semi_sphere', 'cylinder', 'closed_cylinder', 'android_robot', 'complex_hemisphere', 'sake_pot'];
 const EXAMPLES = QUICK ? ['sphere', 'android_robot'] : ALL_EXAMPLES;
 const MODES = QUICK ? ['still', 'auto'] : ['still', 'viewSet', 'serverMesh', 'gpuRaycast', 'wasmMesh', 'volume', 'auto'];
 
-// ---------------------------------------------------------------- server
-
-function freePort() {
-  return new Promise((ok, fail) => {
-    const s = createServer();
-    s.once('error', fail);
-    s.listen(0, '127.0.0.1', () => {
-      const a = s.address();
-      s.close(() => ok(a.port));
-    });
-  });
-}
-
-async function waitHealthy(url, ms, child) {
-  const end = Date.now() + ms;
-  while (Date.now() < end) {
-    if (child && child.exitCode !== null) throw new Error(`frep serve exited with ${child.exitCode}`);
-    try {
-      if ((await fetch(`${url}/api/health`)).ok) return;
-    } catch {
-      /* not up yet */
-    }
-    await new Promise((r) => setTimeout(r, 200));
-  }
-  throw new Error(`${url}/api/health not ready after ${ms} ms`);
-}
-
-/** Starts `frep serve` on a free loopback port with a fresh data directory. */
-async function startServer() {
-  if (process.env.FREP_BENCH_URL) return { url: process.env.FREP_BENCH_URL.replace(/\/$/, ''), stop: async () => {} };
-  const bin = process.env.FREP_BIN ?? join(repo, 'target', 'release', 'frep');
-  if (!existsSync(bin)) throw new Error(`${bin} not found: run \`cargo build --release -p frep-cli\` (or set FREP_BENCH_URL)`);
-  const port = await freePort();
-  const data = mkdtempSync(join(tmpdir(), 'frep-bench-'));
-  const url = `http://127.0.0.1:${port}`;
-  const child = spawn(bin, ['serve', '--addr', `127.0.0.1:${port}`, '--data', data, '--static', join(web, 'dist')], { cwd: repo, stdio: ['ignore', 'ignore', 'pipe'] });
-  let log = '';
-  child.stderr.on('data', (b) => (log = (log + b).slice(-4000)));
-  try {
-    await waitHealthy(url, 60_000, child);
-  } catch (e) {
-    child.kill('SIGKILL');
-    rmSync(data, { recursive: true, force: true });
-    throw new Error(`${e}\n${log}`);
-  }
-  return {
-    url,
-    async stop() {
-      if (child.exitCode === null) {
-        const gone = new Promise((r) => child.once('exit', r));
-        child.kill('SIGTERM');
-        const t = setTimeout(() => child.kill('SIGKILL'), 5000);
-        await gone;
-        clearTimeout(t);
-      }
-      rmSync(data, { recursive: true, force: true });
-    },
-  };
-}
-
-// ---------------------------------------------------------------- harness bundle
-
-async function bundle() {
-  const out = await build({
-    configFile: false,
-    root: web,
-    base: '/__bench/',
-    logLevel: 'warn',
-    build: {
-      write: false,
-      minify: true,
-      target: 'es2022',
-      modulePreload: false,
-      rollupOptions: { input: join(web, 'bench', 'bench-harness.ts'), output: { entryFileNames: 'harness.js', format: 'es' } },
-    },
-    worker: { format: 'es' },
-  });
-  const files = new Map();
-  for (const r of Array.isArray(out) ? out : [out])
-    for (const o of r.output) {
-      const body = o.type === 'chunk' ? Buffer.from(o.code ?? '') : Buffer.from(o.source ?? '');
-      const type = o.fileName.endsWith('.js') ? 'text/javascript' : o.fileName.endsWith('.wasm') ? 'application/wasm' : 'application/octet-stream';
-      files.set(o.fileName, { body, type });
-    }
-  return files;
-}
-
 // ---------------------------------------------------------------- one case
-
-/** Races `p` against the case timeout. */
-function bounded(p, ms, what) {
-  let timer;
-  const t = new Promise((_, fail) => (timer = setTimeout(() => fail(new Error(`timeout after ${ms} ms: ${what}`)), ms)));
-  return Promise.race([p, t]).finally(() => clearTimeout(timer));
-}
 
 /** Counts bytes received (HTTP encoded lengths, WebSocket frames) and server times, resettable. */
 async function meter(page, context) {
@@ -272,34 +170,6 @@ async function studioCase(env, id) {
 }
 
 // ---------------------------------------------------------------- statistics and report
-
-const median = (xs) => {
-  const s = [...xs].sort((a, b) => a - b);
-  const n = s.length;
-  return n === 0 ? NaN : n % 2 ? s[(n - 1) / 2] : (s[n / 2 - 1] + s[n / 2]) / 2;
-};
-const f0 = (x) => (Number.isFinite(x) ? x.toFixed(0) : '–');
-/** "median (min–max)" of a field over the successful runs, and a failure count. */
-function stat(runs, get) {
-  const ok = runs.filter((r) => !r.error && get(r) !== undefined).map(get);
-  const bad = runs.length - runs.filter((r) => !r.error).length;
-  if (!ok.length) return bad ? `FAIL×${bad}` : '–';
-  const s = ok.length > 1 ? `${f0(median(ok))} (${f0(Math.min(...ok))}–${f0(Math.max(...ok))})` : f0(ok[0]);
-  return bad ? `${s} FAIL×${bad}` : s;
-}
-const firstErr = (runs) => runs.find((r) => r.error)?.error;
-
-function machine() {
-  const sh = (c) => {
-    try {
-      return execSync(c, { cwd: repo, stdio: ['ignore', 'pipe', 'ignore'] }).toString().trim();
-    } catch {
-      return '?';
-    }
-  };
-  const cpu = (readFileSync('/proc/cpuinfo', 'utf8').match(/model name\s*:\s*(.*)/) ?? [])[1] ?? cpus()[0]?.model ?? '?';
-  return { nproc: sh('nproc'), cpu, commit: sh('git rev-parse --short HEAD'), dirty: sh('git status --porcelain -- crates web/src') ? ' (+ uncommitted changes)' : '', date: new Date().toISOString().replace(/\.\d+Z$/, 'Z'), chromium: sh(`${CHROMIUM} --version`), node: process.version };
-}
 
 function report(results, studio, errors, elapsedS, partial = false) {
   const mc = machine();
