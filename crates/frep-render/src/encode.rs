@@ -7,7 +7,6 @@
 //! The pure-Rust `image-webp` only writes lossless WebP, which is several
 //! times larger for rendered images.
 
-use std::fmt;
 use std::path::Path;
 
 use serde::{Deserialize, Serialize};
@@ -64,10 +63,11 @@ impl ImageFormat {
 }
 
 /// Why an image could not be encoded.
-#[derive(Debug)]
+#[derive(Debug, thiserror::Error)]
 pub enum EncodeError {
     /// The image is larger than the format allows (JPEG: 65 535, WebP:
     /// 16 383 pixels a side) or empty.
+    #[error("image size {width}x{height} not supported by the format")]
     TooLarge {
         /// Image width.
         width: u32,
@@ -75,27 +75,15 @@ pub enum EncodeError {
         height: u32,
     },
     /// The pixel buffer does not hold `width * height * 4` bytes.
+    #[error("pixel buffer size does not match the image")]
     BadBuffer,
     /// The format was not compiled in.
+    #[error("{0:?} support not compiled in")]
     Unsupported(ImageFormat),
     /// The encoder failed.
+    #[error("encoder failed: {0}")]
     Encoder(String),
 }
-
-impl fmt::Display for EncodeError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            EncodeError::TooLarge { width, height } => {
-                write!(f, "image size {width}x{height} not supported by the format")
-            }
-            EncodeError::BadBuffer => write!(f, "pixel buffer size does not match the image"),
-            EncodeError::Unsupported(fmt) => write!(f, "{fmt:?} support not compiled in"),
-            EncodeError::Encoder(msg) => write!(f, "encoder failed: {msg}"),
-        }
-    }
-}
-
-impl std::error::Error for EncodeError {}
 
 impl From<EncodeError> for std::io::Error {
     fn from(e: EncodeError) -> Self {

@@ -101,14 +101,9 @@ pub const DEFAULT_MAX_TRIANGLES: usize = 2_000_000;
 pub const DEFAULT_MAX_DEPTH: u8 = 9;
 
 /// An error of a call, reported to the caller as text.
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("{0}")]
 pub struct CallError(pub String);
-
-impl std::fmt::Display for CallError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.0)
-    }
-}
 
 fn err(msg: impl Into<String>) -> CallError {
     CallError(msg.into())

@@ -35,26 +35,17 @@ pub struct Section {
 }
 
 /// Why a [`Section`] cannot be used.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error(
+    "section plane: the normal must be finite and non-zero and the offset finite \
+     (normal {normal:?}, offset {offset})"
+)]
 pub struct SectionError {
     /// The normal given.
     pub normal: [f64; 3],
     /// The offset given.
     pub offset: f64,
 }
-
-impl std::fmt::Display for SectionError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(
-            f,
-            "section plane: the normal must be finite and non-zero and the offset finite \
-             (normal {:?}, offset {})",
-            self.normal, self.offset
-        )
-    }
-}
-
-impl std::error::Error for SectionError {}
 
 impl Section {
     /// The same plane with a unit normal (the offset scaled with it), or an

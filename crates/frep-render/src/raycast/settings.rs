@@ -85,11 +85,17 @@ impl RenderSettings {
 }
 
 /// Why a render produced no image.
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 pub enum RenderError {
     /// The [`CancelToken`](frep_core::CancelToken) was cancelled.
+    #[error("render cancelled")]
     Cancelled,
     /// The size is zero or above the [`RenderLimits`].
+    #[error(
+        "image size {width}x{height} is outside 1..={} a side, {} pixels in all",
+        limits.max_side,
+        limits.max_pixels
+    )]
     BadSize {
         /// Requested width.
         width: u32,
@@ -101,28 +107,9 @@ pub enum RenderError {
     /// The section plane is not a plane (see [`SectionError`]).
     ///
     /// [`SectionError`]: super::SectionError
+    #[error("{0}")]
     BadSection(String),
 }
-
-impl std::fmt::Display for RenderError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            RenderError::Cancelled => write!(f, "render cancelled"),
-            RenderError::BadSize {
-                width,
-                height,
-                limits,
-            } => write!(
-                f,
-                "image size {width}x{height} is outside 1..={} a side, {} pixels in all",
-                limits.max_side, limits.max_pixels
-            ),
-            RenderError::BadSection(why) => write!(f, "{why}"),
-        }
-    }
-}
-
-impl std::error::Error for RenderError {}
 
 pub(super) fn check_size(
     (width, height): (u32, u32),
