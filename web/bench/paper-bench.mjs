@@ -48,6 +48,8 @@ const CASE_MS = Number(process.env.FREP_BENCH_CASE_TIMEOUT_MS ?? 60_000);
 /** Marching-cubes depth of the baseline: 2^5 = 32 cells a side (the paper's resolution is not known; docs/paper.md). */
 const BASELINE_DEPTH = 5;
 const ORBIT_MS = 2000;
+/** Techniques that draw with WebGL2 (three.js or the generated shader). */
+const NEEDS_WEBGL = new Set(['serverMesh', 'gpuRaycast', 'wasmMesh', 'baseline']);
 const TECHNIQUES = ['still', 'viewSet', 'serverMesh', 'gpuRaycast', 'wasmMesh', 'baseline', 'auto'];
 
 /** Counts bytes received and reads the session socket (decisions, frame-rate reports). */
@@ -141,6 +143,11 @@ async function runCase(env, profile, link, model, source, params, tech) {
       document.head.append(s);
       while (!('paperBench' in window)) await new Promise((r) => setTimeout(r, 5));
     });
+    // A technique that draws with WebGL is not available on a client without it:
+    // recorded as such at once, not after the case's timeout.
+    if (NEEDS_WEBGL.has(tech) && !(await page.evaluate(() => !!document.createElement('canvas').getContext('webgl2')))) {
+      throw new Error('not available: no WebGL2 on this client');
+    }
     const forced = tech === 'auto' || tech === 'baseline' ? null : tech;
     if (tech !== 'baseline') await page.evaluate(([s, md]) => window.frepBench.mount(s, md), [size, forced]);
     m.bytes = 0;

@@ -23,7 +23,7 @@ const med = (runs, get) => {
 function cellStat(runs, get) {
   const xs = ok(runs).map(get).filter((x) => x !== null && x !== undefined && Number.isFinite(x));
   const bad = runs.length - ok(runs).length;
-  if (!xs.length) return bad ? 'FAIL' : '–';
+  if (!xs.length) return runs.length && runs.every((r) => r.error?.startsWith('not available')) ? 'n/a' : bad ? 'FAIL' : '–';
   const s = xs.length > 1 ? `${f0(median(xs))} (${f0(Math.min(...xs))}–${f0(Math.max(...xs))})` : f0(xs[0]);
   return bad ? `${s} FAIL×${bad}` : s;
 }
@@ -147,7 +147,7 @@ export function writeReport(out, run) {
       const cells = techs.map((t) => {
         const runs = get(p.name, m, t);
         if (!runs.length) return '';
-        if (!ok(runs).length) return 'FAIL';
+        if (!ok(runs).length) return cellStat(runs, (r) => r.firstMs);
         return `${cellStat(runs, (r) => r.firstMs)} / ${f0(med(runs, (r) => r.bytes / 1024))} / ${f0(med(runs, (r) => r.cpuMs))} / ${f0(med(runs, (r) => r.orbitMs))}${t === 'auto' ? ` (${ok(runs)[0].shown})` : ''}`;
       });
       L.push(`| ${m} | ${cells.join(' | ')} |`);
@@ -171,8 +171,9 @@ export function writeReport(out, run) {
   const met = rg.filter((r) => r.rFirst <= 1.2).length;
   L.push('', `First-display regret ≤ 1.2 in ${met} of ${rg.length} profile × model cases; orbit regret ≤ 1.2 in ${rg.filter((r) => r.rOrbit <= 1.2).length} of ${rg.filter((r) => Number.isFinite(r.rOrbit)).length} with a measured orbit.`);
   L.push('', '## Charts', '', '![Fig. 9: first display per model and technique](paper/fig9-first-display.svg)', '', '![Fig. 10: first display per profile](paper/fig10-profiles.svg)');
-  const failures = results.flatMap((c) => c.runs.filter((r) => r.error).map((r) => `${c.profile} · ${c.model} · ${c.tech}: ${r.error}`));
+  const failures = results.flatMap((c) => c.runs.filter((r) => r.error && !r.error.startsWith('not available')).map((r) => `${c.profile} · ${c.model} · ${c.tech}: ${r.error}`));
   if (failures.length) L.push('', '## Failed cases', '', ...failures.map((f) => `- ${f}`));
+  L.push('', 'n/a: the technique draws with WebGL2 and the client has none (checked in the page before the case).');
   L.push('', METHOD(run));
   // A reading written by hand under "## Reading" is kept across reruns.
   const file = join(out, 'paper.md');
