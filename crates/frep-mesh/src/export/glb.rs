@@ -135,28 +135,7 @@ fn build(mesh: &Mesh, compress: bool) -> io::Result<(Value, Vec<u8>)> {
     let pick = |v: &[[f32; 3]]| -> Vec<[f32; 3]> { order.iter().map(|&i| v[i as usize]).collect() };
     let positions = pick(&mesh.positions);
     let n = positions.len();
-
-    // Positions on a u16 grid with one uniform step, so that normals need no correction.
-    let mesh_for_bounds = Mesh {
-        positions: positions.clone(),
-        ..Mesh::default()
-    };
-    let (lo, hi) = mesh_for_bounds.bounds().unwrap_or(([0.0; 3], [0.0; 3]));
-    let extent = (0..3)
-        .map(|k| hi[k] as f64 - lo[k] as f64)
-        .fold(0.0, f64::max);
-    let step = if extent > 0.0 { extent / 65535.0 } else { 1.0 };
-    let quantized: Vec<[u16; 4]> = positions
-        .iter()
-        .map(|p| {
-            let q = [0, 1, 2].map(|k| {
-                ((p[k] as f64 - lo[k] as f64) / step)
-                    .round()
-                    .clamp(0.0, 65535.0) as u16
-            });
-            [q[0], q[1], q[2], 0]
-        })
-        .collect();
+    let (quantized, lo, step) = quantize(positions);
     let qmin = [0, 1, 2].map(|k| quantized.iter().map(|q| q[k]).min().unwrap_or(0));
     let qmax = [0, 1, 2].map(|k| quantized.iter().map(|q| q[k]).max().unwrap_or(0));
 
@@ -174,25 +153,7 @@ fn build(mesh: &Mesh, compress: bool) -> io::Result<(Value, Vec<u8>)> {
     attributes.insert("POSITION".into(), json!(0));
 
     if !mesh.normals.is_empty() {
-        let normals = pick(&mesh.normals);
-        let (bytes, filter) = if compress {
-            let four: Vec<[f32; 4]> = normals.iter().map(|v| [v[0], v[1], v[2], 0.0]).collect();
-            (
-                flat(&meshopt::encode_filter_oct::<i8>(&four, 8), |c: i8| {
-                    vec![c as u8]
-                }),
-                "OCTAHEDRAL",
-            )
-        } else {
-            let snorm = |c: f32| (c.clamp(-1.0, 1.0) * 127.0).round() as i8 as u8;
-            (
-                normals
-                    .iter()
-                    .flat_map(|v| [snorm(v[0]), snorm(v[1]), snorm(v[2]), 0])
-                    .collect(),
-                "NONE",
-            )
-        };
+        let (bytes, filter) = normal_bytes(&pick(&mesh.normals), compress);
         attributes.insert("NORMAL".into(), json!(accessors.len()));
         accessors.push(json!({
             "bufferView": views.len(), "componentType": BYTE, "normalized": true, "count": n, "type": "VEC3",
@@ -243,11 +204,99 @@ fn build(mesh: &Mesh, compress: bool) -> io::Result<(Value, Vec<u8>)> {
         filter: "NONE",
     });
 
-    // Place the views: raw bytes in `bin` (uncompressed) or in the fallback buffer's layout.
+    let placed = place_views(&views, &indices, n, compress)?;
+    let mut buffers = vec![json!({"byteLength": placed.bin.len()})];
+    let mut used = vec![QUANTIZATION];
+    if compress {
+        buffers.push(
+            json!({"byteLength": placed.raw_len, "extensions": {MESHOPT: {"fallback": true}}}),
+        );
+        used.push(MESHOPT);
+    }
+    let json = json!({
+        "asset": {"version": "2.0", "generator": "frep-mesh"},
+        "extensionsUsed": used,
+        "extensionsRequired": used,
+        "scene": 0,
+        "scenes": [{"nodes": [0]}],
+        "nodes": [{"mesh": 0, "translation": lo, "scale": [step, step, step]}],
+        "meshes": [{"primitives": [{"attributes": attributes, "indices": index_accessor, "material": 0, "mode": 4}]}],
+        "materials": [{"pbrMetallicRoughness": {"metallicFactor": 0.0, "roughnessFactor": 0.6}}],
+        "accessors": accessors,
+        "bufferViews": placed.buffer_views,
+        "buffers": buffers,
+    });
+    Ok((json, placed.bin))
+}
+
+/// Positions on a `u16` grid with one uniform step, so that normals need no correction:
+/// the grid coordinates (fourth one 0), the grid's origin and its step.
+fn quantize(positions: Vec<[f32; 3]>) -> (Vec<[u16; 4]>, [f32; 3], f64) {
+    let mesh_for_bounds = Mesh {
+        positions,
+        ..Mesh::default()
+    };
+    let (lo, hi) = mesh_for_bounds.bounds().unwrap_or(([0.0; 3], [0.0; 3]));
+    let extent = (0..3)
+        .map(|k| hi[k] as f64 - lo[k] as f64)
+        .fold(0.0, f64::max);
+    let step = if extent > 0.0 { extent / 65535.0 } else { 1.0 };
+    let quantized = mesh_for_bounds
+        .positions
+        .iter()
+        .map(|p| {
+            let q = [0, 1, 2].map(|k| {
+                ((p[k] as f64 - lo[k] as f64) / step)
+                    .round()
+                    .clamp(0.0, 65535.0) as u16
+            });
+            [q[0], q[1], q[2], 0]
+        })
+        .collect();
+    (quantized, lo, step)
+}
+
+/// Normals as 4 bytes each: octahedral-filtered when compressed, else normalized `i8`.
+/// Returns the bytes and the meshopt filter's name.
+fn normal_bytes(normals: &[[f32; 3]], compress: bool) -> (Vec<u8>, &'static str) {
+    if compress {
+        let four: Vec<[f32; 4]> = normals.iter().map(|v| [v[0], v[1], v[2], 0.0]).collect();
+        (
+            flat(&meshopt::encode_filter_oct::<i8>(&four, 8), |c: i8| {
+                vec![c as u8]
+            }),
+            "OCTAHEDRAL",
+        )
+    } else {
+        let snorm = |c: f32| (c.clamp(-1.0, 1.0) * 127.0).round() as i8 as u8;
+        (
+            normals
+                .iter()
+                .flat_map(|v| [snorm(v[0]), snorm(v[1]), snorm(v[2]), 0])
+                .collect(),
+            "NONE",
+        )
+    }
+}
+
+/// The views placed in the binary chunk.
+struct Placed {
+    /// The `bufferViews` entries.
+    buffer_views: Vec<Value>,
+    /// The binary chunk, padded to 4 bytes.
+    bin: Vec<u8>,
+    /// Length of the uncompressed layout (the fallback buffer's).
+    raw_len: usize,
+}
+
+/// Places the views: raw bytes in the binary chunk (uncompressed), or compressed there with
+/// the raw layout in the fallback buffer. `indices` index `n` vertices.
+fn place_views(views: &[View], indices: &[u32], n: usize, compress: bool) -> io::Result<Placed> {
+    let wide = n > 65535;
     let mut bin = Vec::new();
     let mut raw_offset = 0usize;
     let mut buffer_views = Vec::new();
-    for view in &views {
+    for view in views {
         let mut bv = json!({
             "buffer": if compress { 1 } else { 0 },
             "byteOffset": raw_offset,
@@ -265,7 +314,7 @@ fn build(mesh: &Mesh, compress: bool) -> io::Result<(Value, Vec<u8>)> {
                     "ATTRIBUTES",
                 ),
                 None => {
-                    let encoded = meshopt::encode_index_buffer(&indices, n).map_err(invalid)?;
+                    let encoded = meshopt::encode_index_buffer(indices, n).map_err(invalid)?;
                     (encoded, if wide { 4 } else { 2 }, "TRIANGLES")
                 }
             };
@@ -286,27 +335,11 @@ fn build(mesh: &Mesh, compress: bool) -> io::Result<(Value, Vec<u8>)> {
         raw_offset += (4 - raw_offset % 4) % 4;
         buffer_views.push(bv);
     }
-    let mut buffers = vec![json!({"byteLength": bin.len()})];
-    let mut used = vec![QUANTIZATION];
-    if compress {
-        buffers
-            .push(json!({"byteLength": raw_offset, "extensions": {MESHOPT: {"fallback": true}}}));
-        used.push(MESHOPT);
-    }
-    let json = json!({
-        "asset": {"version": "2.0", "generator": "frep-mesh"},
-        "extensionsUsed": used,
-        "extensionsRequired": used,
-        "scene": 0,
-        "scenes": [{"nodes": [0]}],
-        "nodes": [{"mesh": 0, "translation": lo, "scale": [step, step, step]}],
-        "meshes": [{"primitives": [{"attributes": attributes, "indices": index_accessor, "material": 0, "mode": 4}]}],
-        "materials": [{"pbrMetallicRoughness": {"metallicFactor": 0.0, "roughnessFactor": 0.6}}],
-        "accessors": accessors,
-        "bufferViews": buffer_views,
-        "buffers": buffers,
-    });
-    Ok((json, bin))
+    Ok(Placed {
+        buffer_views,
+        bin,
+        raw_len: raw_offset,
+    })
 }
 
 /// Compresses attribute bytes of the given stride (4 or 8) with attribute codec version 0.

@@ -86,10 +86,24 @@ impl Ctx<'_> {
         mut pos: Vec<[f64; 3]>,
         mut nrm: Vec<[f64; 3]>,
     ) -> (Vec<[f64; 3]>, Vec<[f64; 3]>) {
-        let g = &self.grid;
-        let n = todo.len();
         // This thread's buffers: no allocation per brick (the allocator's locks are shared).
         let mut bufs = CROSSING_BUFS.with(Cell::take);
+        self.roots(be, &todo, &mut bufs, &mut pos);
+        self.normals(brick, be, &todo, &mut bufs, &pos, &mut nrm);
+        CROSSING_BUFS.with(|c| c.set(bufs));
+        (pos, nrm)
+    }
+
+    /// Illinois regula falsi on the edges `todo`, all of them in one batch per step: their
+    /// crossings into `pos`.
+    fn roots(
+        &self,
+        be: &mut BatchEval,
+        todo: &[(usize, [f64; 3], [f64; 3])],
+        bufs: &mut CrossingBufs,
+        pos: &mut [[f64; 3]],
+    ) {
+        let n = todo.len();
         let CrossingBufs {
             xs,
             ys,
@@ -99,7 +113,7 @@ impl Ctx<'_> {
             last,
             active,
             st,
-        } = &mut bufs;
+        } = bufs;
         for v in [&mut *xs, &mut *ys, &mut *zs, &mut *f] {
             zeroed(v, 2 * n);
         }
@@ -167,10 +181,24 @@ impl Ctx<'_> {
             let t = next_t(&st[j]).clamp(EDGE_MARGIN, 1.0 - EDGE_MARGIN);
             pos[*i] = [0, 1, 2].map(|k| a[k] + t * (b[k] - a[k]));
         }
-        // Normals: central differences at `NORMAL_STEP` of a cell, all crossings of the brick
-        // in one batch (six points each). Where they vanish or are not finite (a flat or
-        // singular field there), forward-mode differentiation.
-        let hs = g.h.map(|c| c * NORMAL_STEP);
+    }
+
+    /// Normals at the crossings `pos` of the edges `todo`: central differences at
+    /// `NORMAL_STEP` of a cell, all crossings of the brick in one batch (six points each).
+    /// Where they vanish or are not finite (a flat or singular field there), forward-mode
+    /// differentiation.
+    fn normals(
+        &self,
+        brick: &Brick,
+        be: &mut BatchEval,
+        todo: &[(usize, [f64; 3], [f64; 3])],
+        bufs: &mut CrossingBufs,
+        pos: &[[f64; 3]],
+        nrm: &mut [[f64; 3]],
+    ) {
+        let n = todo.len();
+        let CrossingBufs { xs, ys, zs, f, .. } = bufs;
+        let hs = self.grid.h.map(|c| c * NORMAL_STEP);
         for v in [&mut *xs, &mut *ys, &mut *zs, &mut *f] {
             zeroed(v, 6 * n);
         }
@@ -201,8 +229,6 @@ impl Ctx<'_> {
             }
             nrm[*i] = nv;
         }
-        CROSSING_BUFS.with(|c| c.set(bufs));
-        (pos, nrm)
     }
 
     /// Moves a dual-contouring vertex onto the surface by Newton steps along the gradient,

@@ -112,25 +112,30 @@ impl Ctx<'_> {
         bufs: &mut ExtractBufs,
     ) -> Result<BrickOut, MeshError> {
         self.check()?;
+        let b = self.grid.brick;
+        let nb = self.grid.nb as usize;
+        let o = [id % nb, id / nb % nb, id / (nb * nb)].map(|c| c as i32 * b);
+        let brick = eval.map(|k| &lat.bricks[k]);
+        self.fill_signs(lat, o, &mut bufs.sign);
+        self.find_cubes(lat, id, o, bufs);
+        let (pos, nrm) = self.crossings(lat, brick, &bufs.edges);
+        if self.method != Method::DualContouring {
+            return Ok(self.marching_out(brick, o, bufs, &pos, &nrm));
+        }
+        Ok(self.dual_out(lat, brick, o, bufs, &pos, &nrm))
+    }
+
+    /// Fills `sign` with the signs of the samples `o − 1 ..= o + b` around the brick at
+    /// `o`, read from the 27 bricks around it (this one included).
+    fn fill_signs(&self, lat: &Lattice, o: [i32; 3], sign: &mut Vec<bool>) {
         let g = &self.grid;
         let b = g.brick;
         let nb = g.nb as usize;
-        let o = [id % nb, id / nb % nb, id / (nb * nb)].map(|c| c as i32 * b);
-        let brick = eval.map(|k| &lat.bricks[k]);
-        // Signs of samples o-1 ..= o+b.
         let e = (b + 2) as usize;
-        let ExtractBufs {
-            sign,
-            rows,
-            edge_index,
-            edges,
-            edge_keys,
-            cubes,
-        } = bufs;
         sign.clear();
         sign.resize(e * e * e, false);
-        // By the 27 bricks around (this one included): the layer below (−1), the brick's
-        // own samples (0), the layer above (+1) along each axis.
+        // Per neighbour brick: the layer below (−1), the brick's own samples (0), the layer
+        // above (+1) along each axis.
         let span = |d: i32| match d {
             -1 => -1..=-1,
             0 => 0..=b - 1,
@@ -175,6 +180,22 @@ impl Ctx<'_> {
             let c = [l % e, l / e % e, l / (e * e)].map(|c| c as i32 - 1);
             sign[l] == lat.inside([o[0] + c[0], o[1] + c[1], o[2] + c[2]])
         }));
+    }
+
+    /// Finds the cubes with surface that brick `id` (at `o`) owns, from `bufs.sign`: fills
+    /// `bufs.cubes`, and `bufs.edges` / `bufs.edge_keys` with each crossing edge once.
+    fn find_cubes(&self, lat: &Lattice, id: usize, o: [i32; 3], bufs: &mut ExtractBufs) {
+        let g = &self.grid;
+        let b = g.brick;
+        let e = (b + 2) as usize;
+        let ExtractBufs {
+            sign,
+            rows,
+            edge_index,
+            edges,
+            edge_keys,
+            cubes,
+        } = bufs;
         let table = cases();
         let edge_slot = |p: [i32; 3], axis: usize| {
             let l = [0, 1, 2].map(|a| (p[a] - o[a] + 1) as usize);
@@ -256,97 +277,72 @@ impl Ctx<'_> {
         for r in edges.iter() {
             edge_index[edge_slot(r.p, r.axis)] = u32::MAX;
         }
-        let (pos, nrm) = self.crossings(lat, brick, edges);
-        let mut out = BrickOut::default();
-        if self.method != Method::DualContouring {
-            out.colors = self.colors_at(brick, &pos);
-            out.positions = pos.iter().map(|p| p.map(|c| c as f32)).collect();
-            out.normals = nrm.iter().map(|p| p.map(|c| c as f32)).collect();
-            // Most cases are one or two triangles (no regrowth in the common case).
-            out.tris.reserve(2 * cubes.len());
-            out.shared.reserve(edges.len());
-            // An edge is this brick's alone when its four cubes are inner cubes of the
-            // brick (every corner sample in it: only this brick makes them). Along the
-            // edge its lower end is such a cube's lower corner, across it the lower end
-            // is a cube's lower or upper corner.
-            for (v, e) in edges.iter().enumerate() {
-                let inner = (0..3).all(|a| {
-                    let c = e.p[a] - o[a];
-                    c >= i32::from(a != e.axis) && c <= b - 2
-                });
-                if !inner {
-                    out.shared.push((v as u32, edge_keys[v]));
-                }
+    }
+
+    /// Marching cubes: the brick's triangles over the edges' crossings `pos` (normals `nrm`).
+    fn marching_out(
+        &self,
+        brick: Option<&Brick>,
+        o: [i32; 3],
+        bufs: &ExtractBufs,
+        pos: &[[f64; 3]],
+        nrm: &[[f64; 3]],
+    ) -> BrickOut {
+        let b = self.grid.brick;
+        let table = cases();
+        let mut out = BrickOut {
+            colors: self.colors_at(brick, pos),
+            positions: pos.iter().map(|p| p.map(|c| c as f32)).collect(),
+            normals: nrm.iter().map(|p| p.map(|c| c as f32)).collect(),
+            ..BrickOut::default()
+        };
+        // Most cases are one or two triangles (no regrowth in the common case).
+        out.tris.reserve(2 * bufs.cubes.len());
+        out.shared.reserve(bufs.edges.len());
+        // An edge is this brick's alone when its four cubes are inner cubes of the
+        // brick (every corner sample in it: only this brick makes them). Along the
+        // edge its lower end is such a cube's lower corner, across it the lower end
+        // is a cube's lower or upper corner.
+        for (v, e) in bufs.edges.iter().enumerate() {
+            let inner = (0..3).all(|a| {
+                let c = e.p[a] - o[a];
+                c >= i32::from(a != e.axis) && c <= b - 2
+            });
+            if !inner {
+                out.shared.push((v as u32, bufs.edge_keys[v]));
             }
-            for (_, mask, local) in cubes.iter() {
-                let case = &table[*mask];
-                for k in 0..case.polygons() {
-                    let poly = case.polygon(k);
-                    let key = |e: u8| local[e as usize];
-                    let p = |e: u8| pos[local[e as usize] as usize];
-                    let n = poly.len();
-                    if n == 3 {
-                        out.tris.push([key(poly[0]), key(poly[1]), key(poly[2])]);
-                        continue;
-                    }
-                    // A fan whose diagonals avoid the cube's faces: a diagonal on a face
-                    // would be a diagonal of the neighbouring cube too (a non-manifold edge).
-                    let fan_ok = |apex: usize| {
-                        (2..n - 1).all(|j| !table::share_face(poly[apex], poly[(apex + j) % n]))
-                    };
-                    let mut apexes: Vec<usize> = (0..n).filter(|&a| fan_ok(a)).collect();
-                    if n == 4 && apexes.len() == 2 {
-                        // The shorter diagonal.
-                        if dist2(p(poly[1]), p(poly[3])) < dist2(p(poly[0]), p(poly[2])) {
-                            apexes.swap(0, 1);
-                        }
-                    }
-                    if let Some(&a) = apexes.first() {
-                        for j in 1..n - 1 {
-                            out.tris.push([
-                                key(poly[a]),
-                                key(poly[(a + j) % n]),
-                                key(poly[(a + j + 1) % n]),
-                            ]);
-                        }
-                        continue;
-                    }
-                    // No such fan: a centre vertex.
-                    let mut c = [0.0; 3];
-                    let mut nc = [0.0; 3];
-                    for &e in poly {
-                        let v = local[e as usize] as usize;
-                        for d in 0..3 {
-                            c[d] += pos[v][d] / n as f64;
-                            nc[d] += nrm[v][d];
-                        }
-                    }
-                    let ck = out.positions.len() as u32;
-                    out.positions.push(c.map(|x| x as f32));
-                    out.normals.push(norm(nc).map(|x| x as f32));
-                    if !out.colors.is_empty() {
-                        let col = out.colors[local[poly[0] as usize] as usize];
-                        out.colors.push(col);
-                    }
-                    for j in 0..n {
-                        out.tris.push([ck, key(poly[j]), key(poly[(j + 1) % n])]);
-                    }
-                }
-            }
-            return Ok(out);
         }
-        // Dual contouring: one vertex per polygon (split where a polygon crosses a face
-        // twice, see `DualCase`), one quad per crossing lower edge.
+        for (_, mask, local) in bufs.cubes.iter() {
+            let case = &table[*mask];
+            for k in 0..case.polygons() {
+                triangulate(&mut out, case.polygon(k), local, pos, nrm);
+            }
+        }
+        out
+    }
+
+    /// Dual contouring: one vertex per polygon (split where a polygon crosses a face
+    /// twice, see `DualCase`), one quad per crossing lower edge.
+    fn dual_out(
+        &self,
+        lat: &Lattice,
+        brick: Option<&Brick>,
+        o: [i32; 3],
+        bufs: &ExtractBufs,
+        pos: &[[f64; 3]],
+        nrm: &[[f64; 3]],
+    ) -> BrickOut {
         let dual = table::dual_cases();
+        let mut out = BrickOut::default();
         let mut ge = brick.map(|b| GradEval::new(&b.tape));
         let mut pts = Vec::new();
         let mut ns = Vec::new();
         let mut dc_pos = Vec::new();
         let merged = match (self.adaptive, ge.as_mut()) {
-            (Some(t), Some(ge)) => self.collapse(ge, o, sign, cubes, &pos, &nrm, t),
+            (Some(t), Some(ge)) => self.collapse(ge, o, &bufs.sign, &bufs.cubes, pos, nrm, t),
             _ => KeyMap::default(),
         };
-        for (q, mask, local) in cubes.iter() {
+        for (q, mask, local) in bufs.cubes.iter() {
             let case = &dual[*mask];
             let key = point_key(*q) << 3;
             if let Some(&(rep, x, n)) = merged.get(&key) {
@@ -359,18 +355,7 @@ impl Ctx<'_> {
                     out.aliases.push((key, rep));
                 }
             }
-            // Vertices may leave their cube by up to a cell. A crease (a groove of a union)
-            // can run outside the cubes whose crossings see both of its sheets, through cubes
-            // whose samples all lie inside. On M2's necks with half a cell, the groove was cut
-            // off by 0.25 cell at depth 7.
-            // Not on the box: cap vertices stay on its faces.
-            let slack = if g.is_virtual(*q) || g.is_virtual(add(*q, [1, 1, 1])) {
-                0.0
-            } else {
-                DC_SLACK
-            };
-            let lo = [0, 1, 2].map(|k| g.coord(k, q[k]) - slack * g.h[k]);
-            let hi = [0, 1, 2].map(|k| g.coord(k, q[k] + 1) + slack * g.h[k]);
+            let (lo, hi) = self.vertex_box(*q);
             for (k, poly) in case.polygons.iter().enumerate() {
                 if merged.contains_key(&key) {
                     break;
@@ -396,41 +381,11 @@ impl Ctx<'_> {
                 out.normals.push(norm(avg).map(|c| c as f32));
             }
             for axis in 0..3 {
-                let c1 = 1usize << axis;
-                let e0 = edge_between(0, c1) as usize;
+                let e0 = edge_between(0, 1 << axis) as usize;
                 if case.at[e0][0] == 255 {
                     continue;
                 }
-                let (bx, cx) = ((axis + 1) % 3, (axis + 2) % 3);
-                let mut eb = [0; 3];
-                eb[bx] = 1;
-                let mut ec = [0; 3];
-                ec[cx] = 1;
-                // The cubes around the edge in order. In each, first the polygon holding
-                // the segment on the face shared with the previous cube. Then, when the
-                // edge ends a chord there, the one on the face shared with the next.
-                let mut ring: Vec<u64> = Vec::with_capacity(4);
-                for (slot, d) in [[0, 0, 0], eb, add(eb, ec), ec].iter().enumerate() {
-                    let qn = [q[0] - d[0], q[1] - d[1], q[2] - d[2]];
-                    let m = if slot == 0 { *mask } else { lat.case_at(qn) };
-                    let lo_c = (d[0] | d[1] << 1 | d[2] << 2) as usize;
-                    let e = edge_between(lo_c, lo_c | c1);
-                    let (prev_ax, next_ax) = if slot % 2 == 0 { (cx, bx) } else { (bx, cx) };
-                    let ef = table::edge_faces(e);
-                    let id = |ax: usize| {
-                        let f = (2 * ax + d[ax] as usize) as u8;
-                        let s = usize::from(ef[1] == f);
-                        dual[m].at[e as usize][s] as u64
-                    };
-                    let (a, b) = (id(prev_ax), id(next_ax));
-                    ring.push(point_key(qn) << 3 | a);
-                    if b != a {
-                        ring.push(point_key(qn) << 3 | b);
-                    }
-                }
-                if mask & 1 == 0 {
-                    ring.reverse();
-                }
+                let ring = edge_ring(lat, *q, *mask, axis);
                 if let [a, b, c, d] = ring[..] {
                     out.quads.push([a, b, c, d]);
                     continue;
@@ -450,6 +405,120 @@ impl Ctx<'_> {
             }
         }
         out.colors = self.colors_at(brick, &dc_pos);
-        Ok(out)
+        out
     }
+
+    /// The box a dual-contouring vertex of cube `q` may lie in.
+    fn vertex_box(&self, q: [i32; 3]) -> ([f64; 3], [f64; 3]) {
+        let g = &self.grid;
+        // Vertices may leave their cube by up to a cell. A crease (a groove of a union)
+        // can run outside the cubes whose crossings see both of its sheets, through cubes
+        // whose samples all lie inside. On M2's necks with half a cell, the groove was cut
+        // off by 0.25 cell at depth 7.
+        // Not on the box: cap vertices stay on its faces.
+        let slack = if g.is_virtual(q) || g.is_virtual(add(q, [1, 1, 1])) {
+            0.0
+        } else {
+            DC_SLACK
+        };
+        let lo = [0, 1, 2].map(|k| g.coord(k, q[k]) - slack * g.h[k]);
+        let hi = [0, 1, 2].map(|k| g.coord(k, q[k] + 1) + slack * g.h[k]);
+        (lo, hi)
+    }
+}
+
+/// Marching cubes: polygon `poly` (edge ids of a cube with local edge indices `local`) as
+/// triangles in `out`.
+fn triangulate(
+    out: &mut BrickOut,
+    poly: &[u8],
+    local: &[u32; 12],
+    pos: &[[f64; 3]],
+    nrm: &[[f64; 3]],
+) {
+    let key = |e: u8| local[e as usize];
+    let p = |e: u8| pos[local[e as usize] as usize];
+    let n = poly.len();
+    if n == 3 {
+        out.tris.push([key(poly[0]), key(poly[1]), key(poly[2])]);
+        return;
+    }
+    // A fan whose diagonals avoid the cube's faces: a diagonal on a face
+    // would be a diagonal of the neighbouring cube too (a non-manifold edge).
+    let fan_ok =
+        |apex: usize| (2..n - 1).all(|j| !table::share_face(poly[apex], poly[(apex + j) % n]));
+    let mut apexes: Vec<usize> = (0..n).filter(|&a| fan_ok(a)).collect();
+    if n == 4 && apexes.len() == 2 {
+        // The shorter diagonal.
+        if dist2(p(poly[1]), p(poly[3])) < dist2(p(poly[0]), p(poly[2])) {
+            apexes.swap(0, 1);
+        }
+    }
+    if let Some(&a) = apexes.first() {
+        for j in 1..n - 1 {
+            out.tris.push([
+                key(poly[a]),
+                key(poly[(a + j) % n]),
+                key(poly[(a + j + 1) % n]),
+            ]);
+        }
+        return;
+    }
+    // No such fan: a centre vertex.
+    let mut c = [0.0; 3];
+    let mut nc = [0.0; 3];
+    for &e in poly {
+        let v = local[e as usize] as usize;
+        for d in 0..3 {
+            c[d] += pos[v][d] / n as f64;
+            nc[d] += nrm[v][d];
+        }
+    }
+    let ck = out.positions.len() as u32;
+    out.positions.push(c.map(|x| x as f32));
+    out.normals.push(norm(nc).map(|x| x as f32));
+    if !out.colors.is_empty() {
+        let col = out.colors[local[poly[0] as usize] as usize];
+        out.colors.push(col);
+    }
+    for j in 0..n {
+        out.tris.push([ck, key(poly[j]), key(poly[(j + 1) % n])]);
+    }
+}
+
+/// Dual contouring: the vertex keys around the lower `axis` edge of cube `q` (case `mask`),
+/// counter-clockwise from outside. The cubes around the edge in order; in each, first the
+/// polygon holding the segment on the face shared with the previous cube, then, when the
+/// edge ends a chord there, the one on the face shared with the next.
+fn edge_ring(lat: &Lattice, q: [i32; 3], mask: usize, axis: usize) -> Vec<u64> {
+    let dual = table::dual_cases();
+    let c1 = 1usize << axis;
+    let (bx, cx) = ((axis + 1) % 3, (axis + 2) % 3);
+    let mut eb = [0; 3];
+    eb[bx] = 1;
+    let mut ec = [0; 3];
+    ec[cx] = 1;
+    let mut ring: Vec<u64> = Vec::with_capacity(4);
+    for (slot, d) in [[0, 0, 0], eb, add(eb, ec), ec].iter().enumerate() {
+        let qn = [q[0] - d[0], q[1] - d[1], q[2] - d[2]];
+        let m = if slot == 0 { mask } else { lat.case_at(qn) };
+        let lo_c = (d[0] | d[1] << 1 | d[2] << 2) as usize;
+        let e = edge_between(lo_c, lo_c | c1);
+        let (prev_ax, next_ax) = if slot % 2 == 0 { (cx, bx) } else { (bx, cx) };
+        let ef = table::edge_faces(e);
+        let id = |ax: usize| {
+            let f = (2 * ax + d[ax] as usize) as u8;
+            let s = usize::from(ef[1] == f);
+            dual[m].at[e as usize][s] as u64
+        };
+        let (a, b) = (id(prev_ax), id(next_ax));
+        ring.push(point_key(qn) << 3 | a);
+        if b != a {
+            ring.push(point_key(qn) << 3 | b);
+        }
+    }
+    if mask & 1 == 0 {
+        ring.reverse();
+    }
+    ring
 }

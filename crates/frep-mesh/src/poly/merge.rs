@@ -1,11 +1,12 @@
-//! Merging the bricks' marching-cubes output into one mesh, shared
-//! vertices joined by key.
+//! Merging the bricks' output into one mesh: marching cubes' shared vertices and dual
+//! contouring's vertices joined by key.
 
 use std::collections::hash_map::Entry;
 
 use crate::Mesh;
 
 use super::extract::BrickOut;
+use super::grid::norm;
 use super::{par_each, par_map, KeyMap};
 
 /// Splits `v` into consecutive chunks of these lengths.
@@ -149,5 +150,97 @@ pub(super) fn merge_marching(outs: &mut [BrickOut], mesh: &mut Mesh, with_colors
     drop(jobs);
     for o in outs.iter_mut() {
         *o = BrickOut::default();
+    }
+}
+
+/// The merge of dual-contouring bricks (`keys`, `aliases`, `triangles`, `quads`): vertices
+/// joined by key, a collapsed block's keys mapped to its one vertex, quads split along
+/// their flatter diagonal. Consumes `outs`.
+pub(super) fn merge_dual(mut outs: Vec<BrickOut>, mesh: &mut Mesh, with_colors: bool) {
+    let push_vertex = |mesh: &mut Mesh, o: &BrickOut, v: usize| {
+        mesh.positions.push(o.positions[v]);
+        mesh.normals.push(o.normals[v]);
+        if with_colors {
+            mesh.colors
+                .push(o.colors.get(v).copied().unwrap_or([0.0; 3]));
+        }
+        (mesh.positions.len() - 1) as u32
+    };
+    let nv: usize = outs.iter().map(|o| o.keys.len()).sum();
+    let mut index: KeyMap<u32> = KeyMap::with_capacity_and_hasher(nv, Default::default());
+    for o in &mut outs {
+        for (v, &key) in o.keys.iter().enumerate() {
+            if let Entry::Vacant(e) = index.entry(key) {
+                e.insert(push_vertex(mesh, o, v));
+            }
+        }
+        o.keys = Vec::new();
+        o.positions = Vec::new();
+        o.normals = Vec::new();
+        o.colors = Vec::new();
+    }
+    for o in &mut outs {
+        for (key, rep) in std::mem::take(&mut o.aliases) {
+            if let Some(&i) = index.get(&rep) {
+                index.insert(key, i);
+            }
+        }
+    }
+    let look = |k: &u64| index.get(k).copied();
+    for o in &outs {
+        for t in &o.triangles {
+            if let [Some(a), Some(b), Some(c)] = t.each_ref().map(look) {
+                // Two ends merged by a collapsed block: the triangle is gone.
+                if a != b && b != c && c != a {
+                    mesh.triangles.push([a, b, c]);
+                }
+            }
+        }
+        for q in &o.quads {
+            if let [Some(a), Some(b), Some(c), Some(d)] = q.each_ref().map(look) {
+                push_quad(mesh, [a, b, c, d]);
+            }
+        }
+    }
+}
+
+/// Quad `[a, b, c, d]` as two triangles, or one or none where a collapsed block merged
+/// its corners.
+fn push_quad(mesh: &mut Mesh, [a, b, c, d]: [u32; 4]) {
+    if a == b || b == c || c == d || d == a || a == c || b == d {
+        // Around an edge on a collapsed block's face one side is merged: a triangle;
+        // inside the block it is gone.
+        let mut v = vec![a, b, c, d];
+        v.dedup();
+        if v.len() > 1 && v[0] == v[v.len() - 1] {
+            v.pop();
+        }
+        if let [x, y, z] = v[..] {
+            if x != z {
+                mesh.triangles.push([x, y, z]);
+            }
+        }
+        return;
+    }
+    let p = |i: u32| crate::mesh::to_f64(mesh.positions[i as usize]);
+    let tri_n = |x: u32, y: u32, z: u32| {
+        norm(crate::mesh::cross(
+            crate::mesh::sub(p(y), p(x)),
+            crate::mesh::sub(p(z), p(x)),
+        ))
+    };
+    // The diagonal whose two triangles fold least; a zero-area triangle (its normal
+    // is 0) makes a split fold most.
+    let d1 = crate::mesh::dot(tri_n(a, b, c), tri_n(a, c, d));
+    let d2 = crate::mesh::dot(tri_n(a, b, d), tri_n(b, c, d));
+    let flat = |x: u32, y: u32, z: u32| tri_n(x, y, z) == [0.0; 3];
+    let bad1 = flat(a, b, c) || flat(a, c, d);
+    let bad2 = flat(a, b, d) || flat(b, c, d);
+    if (d1 >= d2 && !bad1) || bad2 {
+        mesh.triangles.push([a, b, c]);
+        mesh.triangles.push([a, c, d]);
+    } else {
+        mesh.triangles.push([a, b, d]);
+        mesh.triangles.push([b, c, d]);
     }
 }

@@ -95,7 +95,6 @@ pub use settings::{CancelToken, Limits, MeshError, MeshSettings, Method, Progres
 #[cfg(feature = "export")]
 pub use simplify::{simplify_mesh, simplify_verified};
 
-use std::collections::hash_map::Entry;
 use std::sync::atomic::Ordering;
 use std::sync::Arc;
 
@@ -106,9 +105,8 @@ use frep_core::Model;
 
 use crate::Mesh;
 
-use extract::BrickOut;
-use grid::{norm, Grid, Lattice, INSIDE, OUTSIDE};
-use merge::merge_marching;
+use grid::{Grid, Lattice, INSIDE, OUTSIDE};
+use merge::{merge_dual, merge_marching};
 use octree::{Class, Leaf};
 
 /// Side of the finest bricks evaluated in one batch (in cells), at most.
@@ -241,8 +239,58 @@ fn run(
             }]
         }
     };
+    let lat = lattice(&grid, leaves);
+
+    // Phase 2: extraction by the generating bricks.
+    let gen = generating_bricks(&lat);
+    progress
+        .estimated
+        .store(total + gen.len() as u64, Ordering::Relaxed);
+    progress.done.store(total, Ordering::Relaxed);
+    let outs = par_map(&gen, |&(id, eval)| {
+        let r = ctx.extract(&lat, id, eval);
+        progress.add(1);
+        r
+    });
+    drop(lat);
+    let mut outs = outs.into_iter().collect::<Result<Vec<_>, _>>()?;
+    ctx.check()?;
+
+    // Phase 3: merge.
+    let ntri: usize = outs
+        .iter()
+        .map(|o| o.tris.len() + o.triangles.len() + 2 * o.quads.len())
+        .sum();
+    if ntri > settings.limits.max_triangles {
+        return Err(MeshError::TooManyTriangles(settings.limits.max_triangles));
+    }
+    let mut mesh = Mesh::default();
+    mesh.triangles.reserve(ntri);
+    let with_colors = colors > 0;
+    if settings.method != Method::DualContouring {
+        merge_marching(&mut outs, &mut mesh, with_colors);
+    }
+    merge_dual(outs, &mut mesh, with_colors);
+    fill_normals(&mut mesh, settings.method);
+    #[cfg(feature = "export")]
+    if let Some(frac) = settings.simplify {
+        let cell = grid.h.iter().fold(0.0f64, |a, &b| a.max(b));
+        simplify_verified(
+            &mut mesh,
+            (frac * cell) as f32,
+            settings.method == Method::Watertight,
+        );
+    }
+    progress.done.store(progress.estimated(), Ordering::Relaxed);
+    Ok(mesh)
+}
+
+/// The brick map of the octree's `leaves`: pruned inside nodes mark their bricks inside,
+/// evaluated bricks are numbered in order.
+fn lattice(grid: &Grid, leaves: Vec<Leaf>) -> Lattice<'_> {
+    let nb = grid.nb as usize;
     let mut lat = Lattice {
-        grid: &grid,
+        grid,
         map: vec![OUTSIDE; nb * nb * nb],
         bricks: Vec::new(),
     };
@@ -273,131 +321,31 @@ fn run(
             }
         }
     }
-    // Phase 2: extraction by the generating bricks.
-    let mut gen: Vec<(usize, Option<usize>)> = Vec::new();
+    lat
+}
+
+/// The bricks that extract cubes, as `(brick id, evaluated brick)`: every evaluated brick,
+/// and the inside bricks on the box boundary (their caps).
+fn generating_bricks(lat: &Lattice) -> Vec<(usize, Option<usize>)> {
+    let mut gen = Vec::new();
     for (id, &m) in lat.map.iter().enumerate() {
         match m {
             OUTSIDE => {}
             INSIDE => {
-                if grid.is_boundary_brick(id) {
+                if lat.grid.is_boundary_brick(id) {
                     gen.push((id, None));
                 }
             }
             k => gen.push((id, Some((k - 2) as usize))),
         }
     }
-    progress
-        .estimated
-        .store(total + gen.len() as u64, Ordering::Relaxed);
-    progress.done.store(total, Ordering::Relaxed);
-    let outs = par_map(&gen, |&(id, eval)| {
-        let r = ctx.extract(&lat, id, eval);
-        progress.add(1);
-        r
-    });
-    drop(lat);
-    let mut outs = outs.into_iter().collect::<Result<Vec<_>, _>>()?;
-    ctx.check()?;
+    gen
+}
 
-    // Phase 3: merge.
-    let ntri: usize = outs
-        .iter()
-        .map(|o| o.tris.len() + o.triangles.len() + 2 * o.quads.len())
-        .sum();
-    if ntri > settings.limits.max_triangles {
-        return Err(MeshError::TooManyTriangles(settings.limits.max_triangles));
-    }
-    let mut mesh = Mesh::default();
-    mesh.triangles.reserve(ntri);
-    let with_colors = colors > 0;
-    let push_vertex = |mesh: &mut Mesh, o: &BrickOut, v: usize| {
-        mesh.positions.push(o.positions[v]);
-        mesh.normals.push(o.normals[v]);
-        if with_colors {
-            mesh.colors
-                .push(o.colors.get(v).copied().unwrap_or([0.0; 3]));
-        }
-        (mesh.positions.len() - 1) as u32
-    };
-    if settings.method != Method::DualContouring {
-        merge_marching(&mut outs, &mut mesh, with_colors);
-    }
-    // Dual contouring: vertices by key.
-    let nv: usize = outs.iter().map(|o| o.keys.len()).sum();
-    let mut index: KeyMap<u32> = KeyMap::with_capacity_and_hasher(nv, Default::default());
-    for o in &mut outs {
-        for (v, &key) in o.keys.iter().enumerate() {
-            if let Entry::Vacant(e) = index.entry(key) {
-                e.insert(push_vertex(&mut mesh, o, v));
-            }
-        }
-        o.keys = Vec::new();
-        o.positions = Vec::new();
-        o.normals = Vec::new();
-        o.colors = Vec::new();
-    }
-    for o in &mut outs {
-        for (key, rep) in std::mem::take(&mut o.aliases) {
-            if let Some(&i) = index.get(&rep) {
-                index.insert(key, i);
-            }
-        }
-    }
-    let look = |k: &u64| index.get(k).copied();
-    for o in &outs {
-        for t in &o.triangles {
-            if let [Some(a), Some(b), Some(c)] = t.each_ref().map(look) {
-                // Two ends merged by a collapsed block: the triangle is gone.
-                if a != b && b != c && c != a {
-                    mesh.triangles.push([a, b, c]);
-                }
-            }
-        }
-        for q in &o.quads {
-            let [Some(a), Some(b), Some(c), Some(d)] = q.each_ref().map(look) else {
-                continue;
-            };
-            if a == b || b == c || c == d || d == a || a == c || b == d {
-                // Around an edge on a collapsed block's face one side is merged: a triangle;
-                // inside the block it is gone.
-                let mut v = vec![a, b, c, d];
-                v.dedup();
-                if v.len() > 1 && v[0] == v[v.len() - 1] {
-                    v.pop();
-                }
-                if let [x, y, z] = v[..] {
-                    if x != z {
-                        mesh.triangles.push([x, y, z]);
-                    }
-                }
-                continue;
-            }
-            let p = |i: u32| crate::mesh::to_f64(mesh.positions[i as usize]);
-            let tri_n = |x: u32, y: u32, z: u32| {
-                norm(crate::mesh::cross(
-                    crate::mesh::sub(p(y), p(x)),
-                    crate::mesh::sub(p(z), p(x)),
-                ))
-            };
-            // The diagonal whose two triangles fold least; a zero-area triangle (its normal
-            // is 0) makes a split fold most.
-            let d1 = crate::mesh::dot(tri_n(a, b, c), tri_n(a, c, d));
-            let d2 = crate::mesh::dot(tri_n(a, b, d), tri_n(b, c, d));
-            let flat = |x: u32, y: u32, z: u32| tri_n(x, y, z) == [0.0; 3];
-            let bad1 = flat(a, b, c) || flat(a, c, d);
-            let bad2 = flat(a, b, d) || flat(b, c, d);
-            if (d1 >= d2 && !bad1) || bad2 {
-                mesh.triangles.push([a, b, c]);
-                mesh.triangles.push([a, c, d]);
-            } else {
-                mesh.triangles.push([a, b, d]);
-                mesh.triangles.push([b, c, d]);
-            }
-        }
-    }
-    drop(outs);
-    drop(index);
-    if settings.method == Method::MarchingCubes {
+/// Normals from the triangles: all of them for marching cubes, else only where the
+/// vertex has none (a zero normal).
+fn fill_normals(mesh: &mut Mesh, method: Method) {
+    if method == Method::MarchingCubes {
         mesh.compute_normals();
     } else if mesh.normals.contains(&[0.0; 3]) {
         let given = std::mem::take(&mut mesh.normals);
@@ -408,15 +356,4 @@ fn run(
             }
         }
     }
-    #[cfg(feature = "export")]
-    if let Some(frac) = settings.simplify {
-        let cell = grid.h.iter().fold(0.0f64, |a, &b| a.max(b));
-        simplify_verified(
-            &mut mesh,
-            (frac * cell) as f32,
-            settings.method == Method::Watertight,
-        );
-    }
-    progress.done.store(progress.estimated(), Ordering::Relaxed);
-    Ok(mesh)
 }
