@@ -184,21 +184,13 @@ fn build(mesh: &Mesh, compress: bool) -> io::Result<(Value, Vec<u8>)> {
     }
     // glTF forbids the largest value of the index type (primitive restart in WebGL 2).
     let wide = n > 65535;
-    let index_bytes = if wide {
-        indices.iter().flat_map(|&i| i.to_le_bytes()).collect()
-    } else {
-        indices
-            .iter()
-            .flat_map(|&i| (i as u16).to_le_bytes())
-            .collect()
-    };
     let index_accessor = accessors.len();
     accessors.push(json!({
         "bufferView": views.len(), "componentType": if wide { UNSIGNED_INT } else { UNSIGNED_SHORT },
         "count": indices.len(), "type": "SCALAR",
     }));
     views.push(View {
-        bytes: index_bytes,
+        bytes: index_bytes(&indices, wide),
         stride: None,
         count: indices.len(),
         filter: "NONE",
@@ -276,6 +268,18 @@ fn normal_bytes(normals: &[[f32; 3]], compress: bool) -> (Vec<u8>, &'static str)
                 .collect(),
             "NONE",
         )
+    }
+}
+
+/// Indices as little-endian `u32` when `wide`, else `u16`.
+fn index_bytes(indices: &[u32], wide: bool) -> Vec<u8> {
+    if wide {
+        indices.iter().flat_map(|&i| i.to_le_bytes()).collect()
+    } else {
+        indices
+            .iter()
+            .flat_map(|&i| (i as u16).to_le_bytes())
+            .collect()
     }
 }
 

@@ -8,6 +8,15 @@ use super::table::cases;
 use super::{qef, table};
 use super::{Ctx, KeyMap, DC_SLACK};
 
+/// A block: no surface, not collapsible, or collapsed (its cubes' vertex keys and
+/// crossings).
+#[derive(Clone)]
+enum Block {
+    Empty,
+    Blocked,
+    Merged(Vec<u64>, Vec<u32>),
+}
+
 impl Ctx<'_> {
     /// Adaptive dual contouring ([`MeshSettings::adaptive`]): the blocks of 2×2×2, 4×4×4, …
     /// cubes of brick `o` that collapse to one vertex. They come as `cube's vertex key →
@@ -35,14 +44,6 @@ impl Ctx<'_> {
         nrm: &[[f64; 3]],
         tol: f64,
     ) -> KeyMap<(u64, [f64; 3], [f64; 3])> {
-        /// A block: no surface, not collapsible, or collapsed (its cubes' vertex keys and
-        /// crossings).
-        #[derive(Clone)]
-        enum Block {
-            Empty,
-            Blocked,
-            Merged(Vec<u64>, Vec<u32>),
-        }
         let g = &self.grid;
         let b = g.brick;
         let e = (b + 2) as usize;
@@ -51,7 +52,6 @@ impl Ctx<'_> {
                 + e * ((p[1] - o[1] + 1) as usize + e * (p[2] - o[2] + 1) as usize)]
         };
         let dual = table::dual_cases();
-        let h = g.h.iter().fold(0.0f64, |a, &c| a.max(c));
         let idx = |k: [i32; 3], n: i32| (k[0] + n * (k[1] + n * k[2])) as usize;
         // Level 0: the cubes of the brick.
         let mut level = vec![Block::Empty; (b * b * b) as usize];
@@ -103,32 +103,24 @@ impl Ctx<'_> {
                             } else if members.len() == 1 {
                                 Block::Merged(members, edges)
                             } else {
-                                pts.clear();
-                                ns.clear();
-                                let mut avg = [0.0; 3];
-                                for &v in &edges {
-                                    pts.push(pos[v as usize]);
-                                    ns.push(nrm[v as usize]);
-                                    for c in 0..3 {
-                                        avg[c] += nrm[v as usize][c];
+                                let hermite = (pos, nrm);
+                                let scratch = (&mut pts, &mut ns);
+                                match self.merged_vertex(
+                                    ge,
+                                    &edges,
+                                    (q0, side),
+                                    hermite,
+                                    tol,
+                                    scratch,
+                                ) {
+                                    None => Block::Blocked,
+                                    Some((x, n)) => {
+                                        let rep = members[0];
+                                        for &m in &members {
+                                            out.insert(m, (rep, x, n));
+                                        }
+                                        Block::Merged(members, edges)
                                     }
-                                }
-                                let lo = [0, 1, 2].map(|a| g.coord(a, q0[a]) - DC_SLACK * g.h[a]);
-                                let hi =
-                                    [0, 1, 2].map(|a| g.coord(a, q0[a] + side) + DC_SLACK * g.h[a]);
-                                let x = self.snap(ge, qef::solve(&pts, &ns, lo, hi), lo, hi);
-                                let far = pts.iter().zip(&ns).any(|(p, nr)| {
-                                    let d = (0..3).map(|c| nr[c] * (x[c] - p[c])).sum::<f64>();
-                                    d.is_nan() || d.abs() > tol * h
-                                });
-                                if far {
-                                    Block::Blocked
-                                } else {
-                                    let rep = members[0];
-                                    for &m in &members {
-                                        out.insert(m, (rep, x, norm(avg)));
-                                    }
-                                    Block::Merged(members, edges)
                                 }
                             }
                         };
@@ -139,6 +131,41 @@ impl Ctx<'_> {
             side *= 2;
         }
         out
+    }
+
+    /// The vertex of the block of `side` cubes at `q0` whose crossings are `edges` (in
+    /// `hermite`: positions, normals): the merged QEF's minimizer snapped onto the surface,
+    /// and the mean normal. `None` when it lies farther than `tol` cell from a crossing's
+    /// tangent plane. `scratch` holds the points and normals between calls.
+    fn merged_vertex(
+        &self,
+        ge: &mut GradEval,
+        edges: &[u32],
+        (q0, side): ([i32; 3], i32),
+        (pos, nrm): (&[[f64; 3]], &[[f64; 3]]),
+        tol: f64,
+        (pts, ns): (&mut Vec<[f64; 3]>, &mut Vec<[f64; 3]>),
+    ) -> Option<([f64; 3], [f64; 3])> {
+        let g = &self.grid;
+        let h = g.h.iter().fold(0.0f64, |a, &c| a.max(c));
+        pts.clear();
+        ns.clear();
+        let mut avg = [0.0; 3];
+        for &v in edges {
+            pts.push(pos[v as usize]);
+            ns.push(nrm[v as usize]);
+            for c in 0..3 {
+                avg[c] += nrm[v as usize][c];
+            }
+        }
+        let lo = [0, 1, 2].map(|a| g.coord(a, q0[a]) - DC_SLACK * g.h[a]);
+        let hi = [0, 1, 2].map(|a| g.coord(a, q0[a] + side) + DC_SLACK * g.h[a]);
+        let x = self.snap(ge, qef::solve(pts, ns, lo, hi), lo, hi);
+        let far = pts.iter().zip(ns.iter()).any(|(p, nr)| {
+            let d = (0..3).map(|c| nr[c] * (x[c] - p[c])).sum::<f64>();
+            d.is_nan() || d.abs() > tol * h
+        });
+        (!far).then(|| (x, norm(avg)))
     }
 
     /// Whether the block of `side` cubes at `q0` is one coarse cube topologically (see

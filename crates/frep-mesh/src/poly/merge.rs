@@ -24,9 +24,49 @@ fn split_lens<T>(mut v: &mut [T], lens: impl Iterator<Item = usize>) -> Vec<&mut
 /// in order, then its triangles, renumbered. A vertex on a shared edge comes only from the
 /// first brick that has it. Only the shared vertices go through one hash map, in brick
 /// order. Numbering and copying run in parallel.
-pub(super) fn merge_marching(outs: &mut [BrickOut], mesh: &mut Mesh, with_colors: bool) {
-    // Shared vertices met before: (this brick's vertex, earlier brick, its vertex), in the
-    // order of this brick's vertices; `ends[b]` ends brick b's.
+/// One brick's part of [`merge_marching`]: its output, its duplicate shared vertices, the
+/// number of its first kept vertex, and then its vertices' new numbers.
+struct Job<'a> {
+    out: &'a BrickOut,
+    dups: &'a [(u32, u32, u32)],
+    offset: u32,
+    remap: Vec<u32>,
+}
+
+/// Numbers each brick's vertices: kept ones in order from its offset, duplicates as the
+/// earlier brick numbered them.
+fn renumber(jobs: &mut [Job]) {
+    par_each(jobs, |j| {
+        let n = j.out.positions.len();
+        j.remap.reserve_exact(n);
+        let (mut next, mut d) = (j.offset, 0);
+        for v in 0..n as u32 {
+            if j.dups.get(d).is_some_and(|x| x.0 == v) {
+                j.remap.push(u32::MAX);
+                d += 1;
+            } else {
+                j.remap.push(next);
+                next += 1;
+            }
+        }
+    });
+    // The earlier bricks' numbers of the duplicates.
+    let fixes: Vec<Vec<u32>> = par_map(jobs, |j| {
+        j.dups
+            .iter()
+            .map(|&(_, b0, v0)| jobs[b0 as usize].remap[v0 as usize])
+            .collect()
+    });
+    for (j, f) in jobs.iter_mut().zip(fixes) {
+        for (&(v, _, _), g) in j.dups.iter().zip(f) {
+            j.remap[v as usize] = g;
+        }
+    }
+}
+
+/// The shared vertices met before, as (this brick's vertex, earlier brick, its vertex), in
+/// the order of each brick's vertices; `ends[b]` ends brick b's.
+fn shared_duplicates(outs: &[BrickOut]) -> (Vec<(u32, u32, u32)>, Vec<usize>) {
     let nshared: usize = outs.iter().map(|o| o.shared.len()).sum();
     let mut first: KeyMap<(u32, u32)> =
         KeyMap::with_capacity_and_hasher(nshared, Default::default());
@@ -46,7 +86,11 @@ pub(super) fn merge_marching(outs: &mut [BrickOut], mesh: &mut Mesh, with_colors
         }
         ends.push(dups.len());
     }
-    drop(first);
+    (dups, ends)
+}
+
+pub(super) fn merge_marching(outs: &mut [BrickOut], mesh: &mut Mesh, with_colors: bool) {
+    let (dups, ends) = shared_duplicates(outs);
     let dup_range = |b: usize| if b == 0 { 0 } else { ends[b - 1] }..ends[b];
     // Each brick's kept vertices are numbered in order from its offset.
     let kept: Vec<usize> = (0..outs.len())
@@ -58,12 +102,6 @@ pub(super) fn merge_marching(outs: &mut [BrickOut], mesh: &mut Mesh, with_colors
         offsets.push(total);
         total += k;
     }
-    struct Job<'a> {
-        out: &'a BrickOut,
-        dups: &'a [(u32, u32, u32)],
-        offset: u32,
-        remap: Vec<u32>,
-    }
     let mut jobs: Vec<Job> = outs
         .iter()
         .enumerate()
@@ -74,32 +112,7 @@ pub(super) fn merge_marching(outs: &mut [BrickOut], mesh: &mut Mesh, with_colors
             remap: Vec::new(),
         })
         .collect();
-    par_each(&mut jobs, |j| {
-        let n = j.out.positions.len();
-        j.remap.reserve_exact(n);
-        let (mut next, mut d) = (j.offset, 0);
-        for v in 0..n as u32 {
-            if j.dups.get(d).is_some_and(|x| x.0 == v) {
-                j.remap.push(u32::MAX);
-                d += 1;
-            } else {
-                j.remap.push(next);
-                next += 1;
-            }
-        }
-    });
-    // The earlier bricks' numbers of the duplicates.
-    let fixes: Vec<Vec<u32>> = par_map(&jobs, |j| {
-        j.dups
-            .iter()
-            .map(|&(_, b0, v0)| jobs[b0 as usize].remap[v0 as usize])
-            .collect()
-    });
-    for (j, f) in jobs.iter_mut().zip(fixes) {
-        for (&(v, _, _), g) in j.dups.iter().zip(f) {
-            j.remap[v as usize] = g;
-        }
-    }
+    renumber(&mut jobs);
     let base_v = mesh.positions.len();
     let base_t = mesh.triangles.len();
     let ntri: usize = outs.iter().map(|o| o.tris.len()).sum();
