@@ -345,6 +345,9 @@ impl<'a> TileCtx<'a> {
     /// Returns whether every ray was settled.
     ///
     /// [`ModelCaster::quadric_blocks`]: crate::raycast::caster::ModelCaster::quadric_blocks
+    // Long on purpose: its passes share a dozen stack arrays of `QUAD_BLOCK` lanes and
+    // vectorise over them. Split, each step would take them all.
+    // Kept whole; no split was measured.
     #[inline(never)]
     fn quadric_block(
         &mut self,
