@@ -12,7 +12,9 @@ use axum::extract::ws::Message;
 use frep_adapt::{ImageSample, ModelStats, ServerSample};
 use frep_artefact::compute::image;
 use frep_artefact::Cancel;
-use frep_wire::{CameraView, Change, ClientMessage, Decision, Mode, SectionPlane, ServerMessage};
+use frep_wire::{
+    CameraView, Change, ClientMessage, ClientReport, Decision, Mode, SectionPlane, ServerMessage,
+};
 use tokio::sync::{mpsc, watch, Semaphore};
 use tokio::task::JoinHandle;
 use tracing::Instrument;
@@ -171,22 +173,13 @@ impl Session {
         }
     }
 
+    /// Dispatches one client message; the engine's decision, if any, is applied last.
     fn client(&mut self, msg: ClientMessage) {
         let now = self.now();
         let at = Instant::now();
         let decided = match msg {
             ClientMessage::Hello { report } | ClientMessage::Report { report } => {
-                let first = !self.hello;
-                self.hello = true;
-                let d = self.decider.report(report, now);
-                if first {
-                    self.outbox.push(self.prober.ping(at));
-                    if self.prober.round_due(at) {
-                        let msgs = self.prober.start_round(at);
-                        self.outbox.extend(msgs);
-                    }
-                }
-                d.or_else(|| self.connect())
+                self.on_report(report, now, at)
             }
             ClientMessage::Open {
                 model_id,
@@ -228,35 +221,7 @@ impl Session {
                 width,
                 height,
                 section,
-            } => {
-                if let Err(e) = check_camera(&camera) {
-                    self.error(e);
-                    return;
-                }
-                if let Err(e) = image::check_section(section.as_ref()) {
-                    self.error(e.to_string());
-                    return;
-                }
-                let cut = section != self.section;
-                self.section = section;
-                self.camera = camera;
-                self.moving = moving;
-                self.viewport = (width, height);
-                self.asked = at;
-                self.camera_seen = true;
-                self.decider.activity(now);
-                let view_set = self
-                    .decider
-                    .current()
-                    .is_some_and(|d| d.mode == Mode::ViewSet);
-                if cut && view_set {
-                    // The view set of the new cut (superseding the last).
-                    self.deliver();
-                } else {
-                    self.restream();
-                }
-                None
-            }
+            } => self.on_camera(camera, moving, (width, height), section, now, at),
             ClientMessage::FrameAck { seq, latency_ms } => {
                 self.ack(seq, latency_ms, at);
                 None
@@ -274,6 +239,62 @@ impl Session {
         if let Some(d) = decided {
             self.apply(d);
         }
+    }
+
+    /// A hello or report: the engine hears it. After the first hello the network probing
+    /// starts, and the engine connects once a model is open too.
+    fn on_report(&mut self, report: ClientReport, now: u64, at: Instant) -> Option<Decision> {
+        let first = !self.hello;
+        self.hello = true;
+        let d = self.decider.report(report, now);
+        if first {
+            self.outbox.push(self.prober.ping(at));
+            if self.prober.round_due(at) {
+                let msgs = self.prober.start_round(at);
+                self.outbox.extend(msgs);
+            }
+        }
+        d.or_else(|| self.connect())
+    }
+
+    /// A new camera (and section): checked, kept, and the stream restarted. A new cut in
+    /// view-set mode delivers the view set of that cut instead.
+    fn on_camera(
+        &mut self,
+        camera: CameraView,
+        moving: bool,
+        viewport: (u32, u32),
+        section: Option<SectionPlane>,
+        now: u64,
+        at: Instant,
+    ) -> Option<Decision> {
+        if let Err(e) = check_camera(&camera) {
+            self.error(e);
+            return None;
+        }
+        if let Err(e) = image::check_section(section.as_ref()) {
+            self.error(e.to_string());
+            return None;
+        }
+        let cut = section != self.section;
+        self.section = section;
+        self.camera = camera;
+        self.moving = moving;
+        self.viewport = viewport;
+        self.asked = at;
+        self.camera_seen = true;
+        self.decider.activity(now);
+        let view_set = self
+            .decider
+            .current()
+            .is_some_and(|d| d.mode == Mode::ViewSet);
+        if cut && view_set {
+            // The view set of the new cut (superseding the last).
+            self.deliver();
+        } else {
+            self.restream();
+        }
+        None
     }
 
     /// Connects the engine when both the hello and a model are there.
