@@ -75,9 +75,16 @@ pub fn in_cube(tree: &Tree, (c, half): ([f64; 3], f64)) -> Tree {
 pub fn tape_to_tree(tape: &Tape) -> Result<Tree, TranslateError> {
     let root = *tape.outputs.first().ok_or(TranslateError::NoOutput)?;
     let nodes = &tape.nodes;
-    let n = nodes.len();
+    let uniform = uniform_values(nodes);
+    let cheap = cheap_negations(nodes, &uniform);
+    let need = needed_signs(nodes, root, &uniform, &cheap)?;
+    let neg = build_trees(nodes, &uniform, &cheap, &need)?;
+    Ok(neg[root.index()].clone().expect("root built"))
+}
 
-    // Values of the nodes that do not depend on the point, folded in f64.
+/// Values of the nodes that do not depend on the point, folded in f64.
+fn uniform_values(nodes: &[Node]) -> Vec<Option<f64>> {
+    let n = nodes.len();
     let mut uniform: Vec<Option<f64>> = Vec::with_capacity(n);
     for node in nodes {
         let u = |c: NodeId| uniform[c.index()];
@@ -101,9 +108,13 @@ pub fn tape_to_tree(tape: &Tape) -> Result<Tree, TranslateError> {
         };
         uniform.push(v);
     }
-    let is_const = |c: NodeId| uniform[c.index()].is_some();
+    uniform
+}
 
-    // Whether the negation of a node costs no extra operation.
+/// Whether the negation of each node costs no extra operation.
+fn cheap_negations(nodes: &[Node], uniform: &[Option<f64>]) -> Vec<bool> {
+    let n = nodes.len();
+    let is_const = |c: NodeId| uniform[c.index()].is_some();
     let mut cheap = vec![false; n];
     for (i, node) in nodes.iter().enumerate() {
         let ch = |c: NodeId| cheap[c.index()];
@@ -127,7 +138,18 @@ pub fn tape_to_tree(tape: &Tape) -> Result<Tree, TranslateError> {
             };
     }
 
-    // Which signs of which nodes the root needs, top-down.
+    cheap
+}
+
+/// Which signs (`POS`, `NEG` flags) of which nodes the root's negation needs, top-down.
+fn needed_signs(
+    nodes: &[Node],
+    root: NodeId,
+    uniform: &[Option<f64>],
+    cheap: &[bool],
+) -> Result<Vec<u8>, TranslateError> {
+    let n = nodes.len();
+    let is_const = |c: NodeId| uniform[c.index()].is_some();
     let mut need = vec![0u8; n];
     need[root.index()] = NEG;
     for i in (0..n).rev() {
@@ -215,7 +237,18 @@ pub fn tape_to_tree(tape: &Tape) -> Result<Tree, TranslateError> {
         }
     }
 
-    // Build the needed trees bottom-up.
+    Ok(need)
+}
+
+/// The needed trees bottom-up: `(positive, negated)` per node, `None` where not needed.
+/// Returns the negated ones.
+fn build_trees(
+    nodes: &[Node],
+    uniform: &[Option<f64>],
+    cheap: &[bool],
+    need: &[u8],
+) -> Result<Vec<Option<Tree>>, TranslateError> {
+    let n = nodes.len();
     let mut pos: Vec<Option<Tree>> = vec![None; n];
     let mut neg: Vec<Option<Tree>> = vec![None; n];
     for i in 0..n {
@@ -233,25 +266,7 @@ pub fn tape_to_tree(tape: &Tape) -> Result<Tree, TranslateError> {
         let new_pos = if need[i] & POS == 0 {
             None
         } else {
-            Some(match nodes[i] {
-                Node::X(0) => Tree::x(),
-                Node::X(1) => Tree::y(),
-                Node::X(2) => Tree::z(),
-                Node::Unary(op, a) => unary(op, p(a)),
-                Node::Binary(op, a, b) => binary(op, p(a), p(b))?,
-                Node::PowI(a, k) => p(a).pow(i64::from(k)),
-                Node::Select(c, t, e) => select(p(c), p(t), p(e)),
-                Node::Blend(op, [f1, f2, a0, a1, a2]) => {
-                    let (f1, f2) = (p(f1), p(f2));
-                    let r = match op {
-                        BlendOp::Union => r_union(f1.clone(), f2.clone()),
-                        BlendOp::Inter => r_inter(f1.clone(), f2.clone()),
-                    };
-                    r + p(a0) / blend_denominator(f1, f2, p(a1), p(a2))
-                }
-                Node::Check(_, v) => p(v),
-                ref other => unreachable!("non-uniform leaf {other:?}"),
-            })
+            Some(positive(&nodes[i], p)?)
         };
         let new_neg = if need[i] & NEG == 0 {
             None
@@ -308,7 +323,30 @@ pub fn tape_to_tree(tape: &Tape) -> Result<Tree, TranslateError> {
         pos[i] = new_pos;
         neg[i] = new_neg;
     }
-    Ok(neg[root.index()].clone().expect("root built"))
+    Ok(neg)
+}
+
+/// The tree of a non-uniform `node`, its children's trees given by `p`.
+fn positive(node: &Node, p: impl Fn(NodeId) -> Tree) -> Result<Tree, TranslateError> {
+    Ok(match *node {
+        Node::X(0) => Tree::x(),
+        Node::X(1) => Tree::y(),
+        Node::X(2) => Tree::z(),
+        Node::Unary(op, a) => unary(op, p(a)),
+        Node::Binary(op, a, b) => binary(op, p(a), p(b))?,
+        Node::PowI(a, k) => p(a).pow(i64::from(k)),
+        Node::Select(c, t, e) => select(p(c), p(t), p(e)),
+        Node::Blend(op, [f1, f2, a0, a1, a2]) => {
+            let (f1, f2) = (p(f1), p(f2));
+            let r = match op {
+                BlendOp::Union => r_union(f1.clone(), f2.clone()),
+                BlendOp::Inter => r_inter(f1.clone(), f2.clone()),
+            };
+            r + p(a0) / blend_denominator(f1, f2, p(a1), p(a2))
+        }
+        Node::Check(_, v) => p(v),
+        ref other => unreachable!("non-uniform leaf {other:?}"),
+    })
 }
 
 fn r_union(a: Tree, b: Tree) -> Tree {
