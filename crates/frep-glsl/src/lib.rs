@@ -71,9 +71,17 @@
 //!     is inlined as a literal instead ([`ShaderStats::consts_inlined`]).
 //! * `uniform float u_xextra[K]` — coordinate slots `x[4]...` (models
 //!   declaring `x[4]` or more);
-//! * the ray caster's: `u_resolution`, `u_inv_view_proj` (column-major; see
-//!   [`Camera`]), `u_box_min`, `u_box_max`, `u_max_steps` (cap on interval
-//!   evaluations per pixel; magenta when hit), `u_background`.
+//! * the ray caster's, by [`ShaderTarget`]. Both trace rays the same way
+//!   (trace.glsl; `u_max_steps` caps interval evaluations per pixel,
+//!   magenta when hit) and differ in camera and shading:
+//!   - `Standalone` (`frep glsl`): `u_resolution`, `u_inv_view_proj`
+//!     (column-major; see [`Camera`]), `u_box_min`, `u_box_max`,
+//!     `u_max_steps`, `u_background`, all with defaults;
+//!   - `Viewer` (the studio's mode 4a, through the `shader` artefact and the
+//!     WebAssembly kernel): the viewer's camera, section plane, background
+//!     and lighting, [`SCENE_UNIFORMS`] declared by [`SCENE`]. The studio
+//!     sets them; its volume mode uses the same scene (a generated copy,
+//!     web/src/viewer/modes/scene-glsl.ts).
 //!
 //! [`Shader::uniforms`] lists every uniform with its GLSL type, default
 //! values and a description; [`Shader::uniforms_json`] gives the same as
@@ -94,7 +102,46 @@ use emit::{Flavour, Leaves};
 /// The GLSL helper functions every generated field uses (no `#version`).
 pub const PRELUDE: &str = include_str!("prelude.glsl");
 
-const RAYCAST: &str = include_str!("raycast.glsl");
+/// The studio's scene (GLSL, no `#version`): camera, section and lighting
+/// uniforms and helpers shared by its client-drawn modes. The volume mode
+/// uses it too (web/src/viewer/modes/scene-glsl.ts is generated from it).
+pub const SCENE: &str = concat!(include_str!("box.glsl"), include_str!("scene.glsl"));
+
+/// The uniforms [`SCENE`] declares, which the studio sets from its camera.
+pub const SCENE_UNIFORMS: [(&str, &str); 26] = [
+    ("u_resolution", "vec2"),
+    ("u_eye", "vec3"),
+    ("u_right", "vec3"),
+    ("u_up", "vec3"),
+    ("u_forward", "vec3"),
+    ("u_k", "float"),
+    ("u_perspective", "float"),
+    ("u_box_min", "vec3"),
+    ("u_box_max", "vec3"),
+    ("u_max_steps", "int"),
+    ("u_bg_top", "vec3"),
+    ("u_bg_bottom", "vec3"),
+    ("u_base", "vec3"),
+    ("u_cap", "vec3"),
+    ("u_key", "vec3"),
+    ("u_fill", "vec3"),
+    ("u_rim", "vec3"),
+    ("u_key_color", "vec3"),
+    ("u_fill_color", "vec3"),
+    ("u_rim_color", "vec3"),
+    ("u_sky", "vec3"),
+    ("u_ground", "vec3"),
+    ("u_specular", "float"),
+    ("u_shininess", "float"),
+    ("u_section", "vec4"),
+    ("u_section_on", "float"),
+];
+
+const BOX: &str = include_str!("box.glsl");
+const TRACE: &str = include_str!("trace.glsl");
+const STANDALONE_SCENE: &str = include_str!("standalone_scene.glsl");
+const STANDALONE_MAIN: &str = include_str!("standalone_main.glsl");
+const VIEWER_MAIN: &str = include_str!("viewer.glsl");
 
 const HEADER: &str = "#version 300 es\nprecision highp float;\nprecision highp int;\n";
 
@@ -166,6 +213,21 @@ pub struct ShaderOptions {
     pub max_uniform_consts: usize,
     /// Background colour (linear RGB).
     pub background: [f32; 3],
+    /// Which ray caster follows the field functions.
+    pub target: ShaderTarget,
+}
+
+/// The ray caster a fragment shader carries (both trace rays the same way,
+/// trace.glsl).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ShaderTarget {
+    /// Self-contained: a camera matrix and every uniform with a default
+    /// (`frep glsl`; see the uniforms in the crate doc).
+    #[default]
+    Standalone,
+    /// The studio's mode 4a: its camera, section plane, background and
+    /// lighting ([`SCENE`], [`SCENE_UNIFORMS`]), which the studio sets.
+    Viewer,
 }
 
 impl Default for ShaderOptions {
@@ -180,6 +242,7 @@ impl Default for ShaderOptions {
             extra_x: Vec::new(),
             max_uniform_consts: 4096,
             background: [0.12, 0.13, 0.15],
+            target: ShaderTarget::Standalone,
         }
     }
 }
@@ -279,8 +342,46 @@ pub fn field_library(tape: &Tape, opts: &ShaderOptions) -> Shader {
 /// docs). Draw it with [`vertex_shader`] as one full-screen triangle:
 /// `gl.drawArrays(gl.TRIANGLES, 0, 3)`, no attributes.
 pub fn fragment_shader(tape: &Tape, opts: &ShaderOptions) -> Shader {
+    match opts.target {
+        ShaderTarget::Standalone => standalone_shader(tape, opts),
+        ShaderTarget::Viewer => viewer_shader(tape, opts),
+    }
+}
+
+/// The studio's shader: the field functions, [`SCENE`], the traversal and
+/// the viewer's `main`. The scene uniforms have no defaults (the studio
+/// sets them); the model's do.
+fn viewer_shader(tape: &Tape, opts: &ShaderOptions) -> Shader {
     let lib = field_library(tape, opts);
-    let mut src = String::with_capacity(lib.source.len() + RAYCAST.len() + 512);
+    let parts = [SCENE, TRACE, VIEWER_MAIN];
+    let mut src =
+        String::with_capacity(lib.source.len() + parts.iter().map(|p| p.len()).sum::<usize>() + 64);
+    src.push_str(HEADER);
+    src.push_str(&lib.source);
+    let _ = writeln!(src, "#define HF_ATTRS {}", u8::from(lib.stats.attributes));
+    for p in parts {
+        src.push_str(p);
+    }
+    let mut uniforms = lib.uniforms;
+    uniforms.extend(SCENE_UNIFORMS.iter().map(|(name, ty)| UniformInfo {
+        name: (*name).into(),
+        ty: (*ty).into(),
+        values: Vec::new(),
+        description: "the viewer's scene (set by the studio)".into(),
+    }));
+    Shader {
+        source: src,
+        uniforms,
+        stats: lib.stats,
+    }
+}
+
+fn standalone_shader(tape: &Tape, opts: &ShaderOptions) -> Shader {
+    let lib = field_library(tape, opts);
+    let parts = [BOX, STANDALONE_SCENE, TRACE, STANDALONE_MAIN];
+    let mut src = String::with_capacity(
+        lib.source.len() + parts.iter().map(|p| p.len()).sum::<usize>() + 512,
+    );
     src.push_str(HEADER);
     src.push_str(&lib.source);
     if lib.stats.attributes {
@@ -288,7 +389,9 @@ pub fn fragment_shader(tape: &Tape, opts: &ShaderOptions) -> Shader {
     } else {
         src.push_str("vec3 hf_material(vec3 p) { return vec3(0.85, 0.62, 0.38); }\n");
     }
-    src.push_str(RAYCAST);
+    for p in parts {
+        src.push_str(p);
+    }
 
     let mut uniforms = lib.uniforms;
     let [w, h] = opts.resolution;

@@ -6,7 +6,7 @@ mod common;
 use common::{assert_valid, exhaustive, m1, m2, m3, m4, validate_vert};
 use frep_core::ops::{BinaryOp, UnaryOp};
 use frep_core::{Graph, Node, NodeId, Tape};
-use frep_glsl::{fragment_shader, vertex_shader, ShaderOptions};
+use frep_glsl::{fragment_shader, vertex_shader, ShaderOptions, ShaderTarget};
 
 /// Deepest parenthesis nesting of any line of the generated model functions.
 fn max_nesting(src: &str) -> usize {
@@ -221,6 +221,30 @@ fn too_many_constants_are_inlined() {
 }
 
 #[test]
+fn viewer_target_validates() {
+    for (name, tape) in [("M1", m1()), ("M3", m3()), ("M4", m4())] {
+        let opts = ShaderOptions {
+            box_min: [-1.0; 3],
+            box_max: [1.0; 3],
+            target: ShaderTarget::Viewer,
+            ..ShaderOptions::default()
+        };
+        let sh = fragment_shader(&tape, &opts);
+        assert_valid(name, &sh.source);
+        assert!(sh.source.contains("#define HF_ATTRS 0"));
+        // The same traversal as the standalone shader, one call site each.
+        assert_eq!(sh.source.matches("field(o + d * t)").count(), 1);
+        assert_eq!(sh.source.matches("hf_trace(o, d,").count(), 1);
+        assert!(!sh.source.contains("u_inv_view_proj"));
+        let names: Vec<&str> = sh.uniforms.iter().map(|u| u.name.as_str()).collect();
+        for (u, _) in frep_glsl::SCENE_UNIFORMS {
+            assert!(names.contains(&u), "uniform {u} not listed");
+        }
+        assert!(names.contains(&"u_consts"));
+    }
+}
+
+#[test]
 fn attributes_give_colour() {
     let mut g = Graph::new();
     let x = g.x(0);
@@ -239,6 +263,14 @@ fn attributes_give_colour() {
     // Without attributes: the default material.
     let sh1 = fragment_shader(&g.tape(&[f]), &ShaderOptions::default());
     assert!(!sh1.source.contains("attrs("));
+    // The studio's shader colours by attributes too.
+    let viewer = ShaderOptions {
+        target: ShaderTarget::Viewer,
+        ..ShaderOptions::default()
+    };
+    let sh2 = fragment_shader(&tape, &viewer);
+    assert!(sh2.source.contains("#define HF_ATTRS 1"));
+    assert_valid("attrs viewer", &sh2.source);
 }
 
 #[test]

@@ -10,7 +10,7 @@
 
 use frep_core::eval::batch::BatchEval;
 use frep_core::{CompileOptions, Inputs, Model, PointEval};
-use frep_glsl::{shader_for_model, ShaderOptions};
+use frep_glsl::{shader_for_model, ShaderOptions, ShaderTarget};
 use frep_mesh::poly::bounds::{model_box, HFP_DEFAULT};
 use frep_mesh::{polygonize, CancelToken, Limits, MeshSettings, Method, Progress, Resolution};
 use frep_wire::{Diagnostic, ShaderArtefact};
@@ -334,7 +334,8 @@ impl Kernel {
         Ok(buffers::pack_mesh(&mesh))
     }
 
-    /// The ray-casting shader of the model as frep-wire's [`ShaderArtefact`].
+    /// The studio's ray-casting shader of the model (frep-glsl's viewer
+    /// target) as frep-wire's [`ShaderArtefact`].
     pub fn shader(
         &mut self,
         handle: u32,
@@ -349,6 +350,7 @@ impl Kernel {
             box_min: [b[0], b[1], b[2]],
             box_max: [b[3], b[4], b[5]],
             params: req.params.clone(),
+            target: ShaderTarget::Viewer,
             ..Default::default()
         };
         Ok(shader_for_model(&e.model, &opts).into_wire(b))

@@ -176,7 +176,10 @@ fn shader_is_the_glsl_crates() {
     assert_eq!(a.bounds, c.bounds.unwrap());
     assert!(a.statements > 0);
     assert!(a.uniforms.iter().any(|u| u.name == "u_consts"));
-    assert!(a.uniforms.iter().any(|u| u.name == "u_inv_view_proj"));
+    // The studio's target: the viewer's camera and section, no camera matrix.
+    assert!(a.uniforms.iter().any(|u| u.name == "u_eye"));
+    assert!(a.uniforms.iter().any(|u| u.name == "u_section"));
+    assert!(!a.uniforms.iter().any(|u| u.name == "u_inv_view_proj"));
     assert!(kernel
         .shader(
             c.handle,

@@ -1,19 +1,19 @@
 /**
- * Mode 4a without a GPU: the client's ray caster is assembled onto the
- * generated field library (from the WebAssembly kernel, i.e. frep-glsl),
+ * Mode 4a without a GPU: the shader is frep-glsl's viewer shader, whole
+ * (from the WebAssembly kernel: the same Rust as the server's artefact),
  * parameters only change uniforms,
  * large models are refused with a reason, camera lights follow
  * frep-render's convention, and the resolution controller holds the frame
  * rate while moving and returns to full resolution when still.
  */
 import { beforeAll, describe, expect, it } from 'vitest';
-import { assembleShader, fieldLibrary, hasAttributes, SCENE_UNIFORMS } from '../../src/viewer/modes/raycast-glsl';
+import { SCENE_UNIFORMS, viewerShader } from '../../src/viewer/modes/raycast-glsl';
 import { DEFAULT_RAYCAST, lightToWorld, raycastRefusal } from '../../src/viewer/modes/raycast';
 import { FrameRate, ResolutionController } from '../../src/viewer/modes/raycast-resolution';
 import type { FrepKernel } from '../../src/wasm/kernel';
 import { example, loadKernel, wasmAvailable } from './wasm-support';
 
-describe.skipIf(!wasmAvailable())('the assembled shader', () => {
+describe.skipIf(!wasmAvailable())("the kernel's viewer shader", () => {
   let kernel: FrepKernel;
   beforeAll(async () => {
     kernel = await loadKernel();
@@ -22,21 +22,21 @@ describe.skipIf(!wasmAvailable())('the assembled shader', () => {
   it.each([
     ['sphere', false],
     ['android_robot', true],
-  ] as const)('%s keeps the fields and gets one main', (name, attrs) => {
+  ] as const)('%s has the fields, the scene and one main', (name, attrs) => {
     const c = kernel.compile(example(name));
     const s = kernel.shader(c.handle);
-    expect(hasAttributes(s.source)).toBe(attrs);
-    const full = assembleShader(s.source);
+    const full = viewerShader(s.source);
     expect(full.startsWith('#version 300 es')).toBe(true);
     expect(full.match(/void main\(\)/g)).toHaveLength(1);
     expect(full).toContain(`#define HF_ATTRS ${attrs ? 1 : 0}`);
     // Exactly one call site of each field function in main (SwiftShader's rule).
     const main = full.slice(full.indexOf('void main()'));
-    expect(main.match(/\bfield\(/g)).toHaveLength(1);
     expect(main.match(/\bfield_grad\(/g)).toHaveLength(1);
+    expect(main.match(/\bhf_trace\(/g)).toHaveLength(1);
+    expect(full.match(/\bfield\(o \+ d \* t\)/g)).toHaveLength(1); // in hf_trace
     expect(full.match(/\bfield_iv\(/g)!.length).toBeGreaterThanOrEqual(2); // definition + hf_segment_iv
     for (const u of SCENE_UNIFORMS) expect(full).toMatch(new RegExp(`uniform \\w+ ${u};`));
-    // The generated ray caster is gone; the model's uniforms stay.
+    // The viewer's camera, not the standalone shader's matrix; the model's uniforms.
     expect(full).not.toContain('u_inv_view_proj');
     expect(full).toContain('u_consts');
   });
@@ -47,13 +47,13 @@ describe.skipIf(!wasmAvailable())('the assembled shader', () => {
     const bounds = [-2, -2, -2, 2, 2, 2];
     const sa = kernel.shader(c.handle, { bounds, params: [1] });
     const sb = kernel.shader(c.handle, { bounds, params: [2.5] });
-    expect(assembleShader(sa.source)).toBe(assembleShader(sb.source));
+    expect(sa.source).toBe(sb.source);
     const params = (s: typeof sa) => s.uniforms.find((u) => u.name === 'u_params')!.values;
     expect([params(sa), params(sb)]).toEqual([[1], [2.5]]);
   });
 
-  it('refuses what is not a frep-glsl shader', () => {
-    expect(() => fieldLibrary('void main() {}')).toThrow(/not a frep-glsl/);
+  it("refuses what is not frep-glsl's viewer shader", () => {
+    expect(() => viewerShader('void main() {}')).toThrow(/not frep-glsl's viewer shader/);
   });
 });
 

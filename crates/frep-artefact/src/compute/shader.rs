@@ -1,10 +1,11 @@
 //! The generated WebGL2 ray-casting shader of a model, with its uniform
-//! table. It is frep-glsl's `shader_for_model`, as `frep glsl` calls it.
+//! table: frep-glsl's `shader_for_model` for the studio's viewer (its
+//! camera, section plane and lighting; `ShaderTarget::Viewer`).
 //! Every constant and parameter is a uniform, so a parameter change needs no
 //! new shader, only `u_params`.
 
 use frep_core::Inputs;
-use frep_glsl::{shader_for_model, ShaderOptions};
+use frep_glsl::{shader_for_model, ShaderOptions, ShaderTarget};
 use frep_wire::ShaderArtefact;
 
 use crate::compiled::Compiled;
@@ -18,6 +19,7 @@ pub fn shader(compiled: &Compiled, inputs: &Inputs) -> ShaderArtefact {
         box_max: [b[3], b[4], b[5]],
         params: inputs.params.clone(),
         extra_x: inputs.extra_x.clone(),
+        target: ShaderTarget::Viewer,
         ..Default::default()
     };
     shader_for_model(compiled.model(), &opts).into_wire(b)

@@ -1,6 +1,6 @@
 /**
  * The camera, scene and section uniforms of the client-drawn modes (4a and
- * volume; declared by raycast-glsl.ts's SCENE_GLSL), from the viewer's
+ * volume; declared by frep-glsl's scene.glsl, scene-glsl.ts), from the viewer's
  * camera (cameraFrame: the server's camera exactly) and scene conventions.
  */
 import type { CameraView } from '../../wire';

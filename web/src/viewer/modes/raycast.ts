@@ -2,9 +2,9 @@
  * Mode 4a: the model ray cast on the client's GPU by its generated shader.
  *
  * The shader comes from the server (`shader` artefact) or, when the server
- * cannot give it, from the WebAssembly kernel — frep-glsl either way. The
- * client keeps the field library and appends its own ray caster
- * (raycast-glsl.ts) with the viewer's camera, section and lighting.
+ * cannot give it, from the WebAssembly kernel — frep-glsl either way, whole:
+ * fields, traversal and the viewer's camera, section and lighting
+ * (raycast-glsl.ts). The client compiles it and sets uniforms.
  *
  * * Compiling is asynchronous (KHR_parallel_shader_compile where present);
  *   the previous program keeps drawing until the new one's first frame.
@@ -23,7 +23,7 @@
  */
 import type { CameraView, Mode, ShaderArtefact } from '../../wire';
 import type { ModeContext, ModeModel, ModeView, SectionPlane } from '../types';
-import { assembleShader, VERTEX_SHADER } from './raycast-glsl';
+import { VERTEX_SHADER, viewerShader } from './raycast-glsl';
 import { type LinkedProgram, ProgramCompiler, setUniform } from './raycast-gl';
 import { ResolutionController } from './raycast-resolution';
 import { setSceneUniforms } from './raycast-scene';
@@ -133,7 +133,7 @@ class RaycastView implements ModeView {
     this.stat('status', 'loading');
     const artefact = await this.fetchShader(model);
     if (model.signal.aborted) throw new DOMException('superseded', 'AbortError');
-    const fragment = assembleShader(artefact.source);
+    const fragment = viewerShader(artefact.source);
     const bytes = artefact.source.length;
     if (this.current && this.current.program.source === fragment) {
       // The same code with other constants: new uniform values only.

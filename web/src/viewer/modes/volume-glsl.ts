@@ -6,9 +6,9 @@
  * central differences. The section plane shows the inside: the cut face
  * is coloured by the attributes `s[]` when a colour volume is given
  * (sampled by the WebAssembly kernel), else by the section colour. Camera,
- * background and lighting are the other modes' (SCENE_GLSL).
+ * background and lighting are mode 4a's (SCENE_GLSL, generated from frep-glsl).
  */
-import { SCENE_GLSL } from './raycast-glsl';
+import { SCENE_GLSL } from './scene-glsl';
 
 export const VOLUME_FRAGMENT = `#version 300 es
 precision highp float;

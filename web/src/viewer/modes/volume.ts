@@ -14,7 +14,7 @@
 import type { CameraView, Mode, VolumeLayout } from '../../wire';
 import type { ModeContext, ModeModel, ModeView, SectionPlane } from '../types';
 import { type LinkedProgram, ProgramCompiler, setUniform } from './raycast-gl';
-import { VERTEX_SHADER } from './raycast-glsl';
+import { VERTEX_SHADER } from './scene-glsl';
 import { ResolutionController } from './raycast-resolution';
 import { setSceneUniforms } from './raycast-scene';
 import { VOLUME_FRAGMENT } from './volume-glsl';
