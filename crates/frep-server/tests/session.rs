@@ -573,40 +573,42 @@ async fn a_mesh_mode_gets_its_artefacts_and_their_progress() {
     c.open_source(SPHERE).await;
     let d = c.decision().await;
     assert_eq!(d.mode, Mode::ServerMesh);
-    let mut mesh = None;
-    let mut coarse = None;
-    while mesh.is_none() || coarse.is_none() {
-        if let ServerMessage::Artefact { role, artefact } = c.text().await {
-            match role.as_str() {
-                "mesh" => mesh = Some(artefact),
-                "meshCoarse" => coarse = Some(artefact),
-                r => panic!("role {r} in mode 3"),
+    // Both meshes are pushed; the session computes them and says when each
+    // is done. Messages may come in any order: a mesh's last progress can
+    // come before the coarse one's push, and a re-decision on the coarse
+    // mesh's measured cost may replace the mesh with another depth, perhaps
+    // one already computed (then it comes ready).
+    let mut mesh: Option<frep_wire::ArtefactRef> = None;
+    let mut coarse = false;
+    let mut done = std::collections::HashSet::new();
+    let finished = |mesh: &Option<frep_wire::ArtefactRef>,
+                    done: &std::collections::HashSet<String>| {
+        mesh.as_ref()
+            .is_some_and(|m| m.ready || done.contains(&m.key))
+    };
+    let wait = async {
+        while !(coarse && finished(&mesh, &done)) {
+            match c.text().await {
+                ServerMessage::Artefact { role, artefact } => match role.as_str() {
+                    "mesh" => mesh = Some(artefact),
+                    "meshCoarse" => coarse = true,
+                    r => panic!("role {r} in mode 3"),
+                },
+                ServerMessage::Progress { key, fraction } => {
+                    assert!((0.0..=1.0).contains(&fraction));
+                    if fraction == 1.0 {
+                        done.insert(key);
+                    }
+                }
+                _ => {}
             }
         }
-    }
-    let mut mesh = mesh.unwrap();
+    };
+    tokio::time::timeout(Duration::from_secs(120), wait)
+        .await
+        .expect("the meshes and their progress within 2 minutes");
+    let mesh = mesh.unwrap();
     assert_eq!(mesh.media_type, "model/gltf-binary");
-    // The session computes it and says when it is done (a re-decision on
-    // the coarse mesh's measured cost may replace it with another depth,
-    // perhaps one already computed).
-    loop {
-        match c.text().await {
-            ServerMessage::Progress { key, fraction } => {
-                assert!((0.0..=1.0).contains(&fraction));
-                if key == mesh.key && fraction == 1.0 {
-                    break;
-                }
-            }
-            // A depth computed already (the coarse one) comes ready.
-            ServerMessage::Artefact { role, artefact } if role == "mesh" => {
-                mesh = artefact;
-                if mesh.ready {
-                    break;
-                }
-            }
-            _ => {}
-        }
-    }
     let body = server
         .client
         .get(server.url(&mesh.url))
