@@ -15,7 +15,7 @@
  * the time spent waiting on the network (union of /api/ resource
  * intervals), bytes received (CDP: HTTP encoded lengths plus WebSocket
  * frames) and the studio's own overhead (total minus the network wait,
- * which itself holds the server time). Then a slider move in mode 1:
+ * which itself holds the server time). Then a slider move in modes 1 and 4a:
  * `setParams` with a new a[1], timed to the updated display. Last, the
  * studio itself: navigation to `#/model/ID` to the first display.
  *
@@ -26,9 +26,9 @@
  * FREP_BIN, FREP_CHROMIUM, FREP_BENCH_SIZE (viewer box, 512 px).
  */
 import { readFileSync, writeFileSync, existsSync } from 'node:fs';
-import { join } from 'node:path';
+import { join, resolve } from 'node:path';
 import { chromium } from 'playwright-core';
-import { web, repo, CHROMIUM, CHROMIUM_ARGS, startServer, bundle, bounded, stat, firstErr, machine } from './bench-common.mjs';
+import { web, repo, CHROMIUM, CHROMIUM_ARGS, startServer, bundle, bounded, stat, firstErr, machine, f0 } from './bench-common.mjs';
 
 const argv = process.argv.slice(2);
 const QUICK = argv.includes('--quick');
@@ -40,6 +40,8 @@ const SIZE = Number(process.env.FREP_BENCH_SIZE ?? 512);
 const ALL_EXAMPLES = ['sphere', 'semi_sphere', 'cylinder', 'closed_cylinder', 'android_robot', 'complex_hemisphere', 'sake_pot'];
 const EXAMPLES = QUICK ? ['sphere', 'android_robot'] : ALL_EXAMPLES;
 const MODES = QUICK ? ['still', 'auto'] : ['still', 'viewSet', 'serverMesh', 'gpuRaycast', 'wasmMesh', 'volume', 'auto'];
+/** The modes whose slider moves are timed. */
+const SLIDER_MODES = ['still', 'gpuRaycast'];
 
 // ---------------------------------------------------------------- one case
 
@@ -126,7 +128,7 @@ async function openCase(env, source, params, mode, moves = []) {
     const out = { pageMs: ctx.pageMs, first, decided: r.decided ? { ms: r.decided.ms, mode: r.decided.mode } : null, moves: [] };
     for (const p of moves) {
       m.reset();
-      const s = await page.evaluate(([pp, t]) => window.frepBench.move(pp, 'still', t), [p, 20_000]);
+      const s = await page.evaluate(([pp, md, t]) => window.frepBench.move(pp, md, t), [p, mode, 20_000]);
       out.moves.push(await account(page, m, s));
     }
     return out;
@@ -207,15 +209,17 @@ function report(results, studio, errors, elapsedS, partial = false) {
     L.push(`| ${r.example} | ${r.mode} | ${stat(r.cold, (x) => x.first.ms)} | ${stat(r.cold, (x) => x.first.serverMs)} | ${stat(r.cold, pct)} | ${stat(r.warm, (x) => x.first.ms)} | ${stat(r.warm, (x) => x.first.viewerMs)} | ${stat(r.warm, (x) => x.first.serverMs)} | ${stat(r.warm, (x) => x.first.ownMs)} | ${stat(r.warm, pct)} | ${stat(r.warm, (x) => x.first.bytes / 1024)} | ${shown || '–'} |`);
   }
   L.push('');
-  L.push('## Slider move → updated display (mode 1, still; ms)');
+  L.push('## Slider move → updated display (modes 1 and 4a; ms)');
   L.push('');
-  L.push('Each move sets a[1] to a value not seen before (a new artefact: the server renders it).');
+  L.push('Each move sets a[1] to a value not seen before. Mode 1: a new artefact the server renders; the first');
+  L.push('updated display is the reduced still (a quarter of the pixels, as while orbiting), the full one follows');
+  L.push('200 ms after the values rest. Mode 4a: `u_params` only (no shader request, no compile), the next frame.');
   L.push('');
-  L.push('| model | total | viewer | server | own | own % | KB |');
-  L.push('|---|---|---|---|---|---|---|');
-  for (const r of results.filter((x) => x.mode === 'still')) {
+  L.push('| model | mode | total | viewer | server | own | own % | KB |');
+  L.push('|---|---|---|---|---|---|---|---|');
+  for (const r of results.filter((x) => SLIDER_MODES.includes(x.mode))) {
     const mv = r.warm.flatMap((x) => (x.error ? [{ error: x.error }] : x.moves.map((m) => ({ first: m }))));
-    L.push(`| ${r.example} | ${stat(mv, (x) => x.first.ms)} | ${stat(mv, (x) => x.first.viewerMs)} | ${stat(mv, (x) => x.first.serverMs)} | ${stat(mv, (x) => x.first.ownMs)} | ${stat(mv, (x) => (100 * x.first.ownMs) / x.first.ms)} | ${stat(mv, (x) => x.first.bytes / 1024)} |`);
+    L.push(`| ${r.example} | ${r.mode} | ${stat(mv, (x) => x.first.ms)} | ${stat(mv, (x) => x.first.viewerMs)} | ${stat(mv, (x) => x.first.serverMs)} | ${stat(mv, (x) => x.first.ownMs)} | ${stat(mv, (x) => (100 * x.first.ownMs) / x.first.ms)} | ${stat(mv, (x) => x.first.bytes / 1024)} |`);
   }
   L.push('');
   L.push('## The studio: navigation to `#/model/ID` → first display (auto, ms)');
@@ -275,7 +279,7 @@ async function main() {
         for (let i = 0; i < REPS; i++) {
           const p = fresh();
           cell.cold.push(await openCase(env, source, p, mode));
-          const moves = mode === 'still' ? [fresh()] : [];
+          const moves = SLIDER_MODES.includes(mode) ? [fresh()] : [];
           cell.warm.push(await openCase(env, source, p, mode, moves));
         }
         note(`${example} ${mode} cold`, cell.cold);
