@@ -262,60 +262,9 @@ mod tests {
         );
     }
 
-    /// The client's section plane goes into the images and view sets a
-    /// mode needs, and stays through the fit to the limits.
-    #[test]
-    fn specs_carry_the_section() {
-        let mut d = frep_wire::Decision {
-            mode: Mode::Still,
-            settings: frep_wire::ModeSettings {
-                width: 100,
-                height: 100,
-                quality: 80,
-                moving_scale: 2.0,
-                moving_quality: 50,
-                format: ImageEncoding::Jpeg,
-                views: 12,
-                elevations: vec![0.0],
-                mesh_depth: 6,
-                coarse_depth: 4,
-                volume_grid: 64,
-            },
-            reason: String::new(),
-            overridden: false,
-            predictions: vec![],
-            network: frep_wire::NetworkEstimate {
-                rtt_ms: 1.0,
-                bandwidth_bps: 1e6,
-                samples: 0,
-            },
-            trigger: "connect".into(),
-            seq: 1,
-        };
-        let cut = Some(SectionPlane {
-            normal: [1.0, 0.0, 0.0],
-            offset: 0.2,
-        });
-        for mode in [Mode::Still, Mode::ViewSet] {
-            d.mode = mode;
-            let got = specs(&d, &CameraView::default(), cut);
-            assert!(!got.is_empty());
-            for (role, spec) in got {
-                let spec = fit(spec, &ArtefactLimits::default());
-                let section = match spec {
-                    ArtefactSpec::Image { section, .. }
-                    | ArtefactSpec::ViewSet { section, .. }
-                    | ArtefactSpec::ViewSetIndex { section, .. } => section,
-                    _ => panic!("{role}"),
-                };
-                assert_eq!(section, cut, "{role}");
-            }
-        }
-    }
-
-    #[test]
-    fn a_mode_asks_for_its_roles() {
-        let d = |mode| Decision {
+    /// A decision in `mode` with small settings, for the tests.
+    fn decision(mode: Mode) -> Decision {
+        Decision {
             mode,
             settings: frep_wire::ModeSettings {
                 width: 100,
@@ -340,9 +289,39 @@ mod tests {
             },
             trigger: "connect".into(),
             seq: 1,
-        };
+        }
+    }
+
+    /// The client's section plane goes into the images and view sets a
+    /// mode needs, and stays through the fit to the limits.
+    #[test]
+    fn specs_carry_the_section() {
+        let mut d = decision(Mode::Still);
+        let cut = Some(SectionPlane {
+            normal: [1.0, 0.0, 0.0],
+            offset: 0.2,
+        });
+        for mode in [Mode::Still, Mode::ViewSet] {
+            d.mode = mode;
+            let got = specs(&d, &CameraView::default(), cut);
+            assert!(!got.is_empty());
+            for (role, spec) in got {
+                let spec = fit(spec, &ArtefactLimits::default());
+                let section = match spec {
+                    ArtefactSpec::Image { section, .. }
+                    | ArtefactSpec::ViewSet { section, .. }
+                    | ArtefactSpec::ViewSetIndex { section, .. } => section,
+                    _ => panic!("{role}"),
+                };
+                assert_eq!(section, cut, "{role}");
+            }
+        }
+    }
+
+    #[test]
+    fn a_mode_asks_for_its_roles() {
         let roles = |m| -> Vec<&str> {
-            specs(&d(m), &CameraView::default(), None)
+            specs(&decision(m), &CameraView::default(), None)
                 .into_iter()
                 .map(|(r, _)| r)
                 .collect()
