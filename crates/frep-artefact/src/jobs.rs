@@ -85,6 +85,14 @@ impl Flight {
         self.outcome.borrow().is_some()
     }
 
+    /// What is known of the artefact once it is computed (not on error).
+    pub fn done_meta(&self) -> Option<Meta> {
+        match self.outcome.borrow().as_ref() {
+            Some(Ok(done)) => Some(done.meta.clone()),
+            _ => None,
+        }
+    }
+
     /// Counts one more waiter.
     pub fn join(&self) {
         self.waiters.fetch_add(1, Ordering::SeqCst);

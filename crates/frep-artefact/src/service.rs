@@ -175,7 +175,13 @@ impl Artefacts {
         if let Some(g) = group {
             self.supersede(g, &key);
         }
-        Ok(match self.inner.cache.meta(&key) {
+        // A computed artefact is ready while its disk write is still going.
+        // The flight is asked first: it leaves the map only once written.
+        let flown = lock(&self.inner.flights)
+            .get(&key)
+            .and_then(|f| f.done_meta());
+        let meta = flown.or_else(|| self.inner.cache.meta(&key));
+        Ok(match meta {
             Some(m) => ArtefactRef {
                 ready: true,
                 bytes: Some(m.len),
