@@ -9,10 +9,14 @@
 //! - JS speed: 1× the reference desktop, 3× slower on a mobile.
 //!
 //! Non-finite or non-positive figures count as missing.
+//!
+//! [`LoadedCode`] is what of the studio's code the page holds already: a
+//! mode's first display must fetch the rest.
 
-use frep_wire::ClientReport;
+use frep_wire::{ClientReport, Mode};
 use serde::Serialize;
 
+use crate::correction::mode_index;
 use crate::predict::CPU_BENCH_REFERENCE_MS;
 
 /// Resource limits of the modes: beyond them a mode is refused.
@@ -95,6 +99,44 @@ pub struct ClientCaps {
     pub memory_gb: Option<f64>,
     /// 3D texture limit.
     pub max_3d_texture: u32,
+    /// Which of the modes' code the page has loaded already.
+    pub code: LoadedCode,
+}
+
+/// What code the page has loaded, so a mode's first display does not count
+/// it again. The engine learns it from the modes displayed.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct LoadedCode {
+    /// three.js and the shared scene (modes 3 and 4b).
+    pub three: bool,
+    /// The WebAssembly kernel (frep.wasm).
+    pub wasm: bool,
+    /// Each mode's own chunk, in [`Mode::ALL`] order.
+    pub modes: [bool; 6],
+}
+
+impl LoadedCode {
+    /// `mode` reached the screen: its code and what it needs are loaded.
+    pub fn displayed(&mut self, mode: Mode) {
+        self.modes[mode_index(mode)] = true;
+        self.three |= uses_three(mode);
+        self.wasm |= mode == Mode::WasmMesh;
+    }
+
+    /// Keeps what `old` knew had loaded (a new report knows only the WASM).
+    pub fn merge(&mut self, old: &LoadedCode) {
+        self.three |= old.three;
+        self.wasm |= old.wasm;
+        for (m, o) in self.modes.iter_mut().zip(old.modes) {
+            *m |= o;
+        }
+    }
+}
+
+/// Whether a mode draws with three.js.
+pub fn uses_three(mode: Mode) -> bool {
+    matches!(mode, Mode::ServerMesh | Mode::WasmMesh)
 }
 
 /// Renderer strings of software rasterizers, lower case.
@@ -167,6 +209,11 @@ impl ClientCaps {
                 report.max_3d_texture_size
             } else {
                 0
+            },
+            // The WASM benchmark runs in the kernel: frep.wasm is loaded.
+            code: LoadedCode {
+                wasm: report.wasm_bench_meps.is_some(),
+                ..LoadedCode::default()
             },
         }
     }

@@ -133,7 +133,7 @@ impl Engine {
         stats: ModelStats,
         now_ms: u64,
     ) -> Decision {
-        let caps = ClientCaps::from_report(&report, &self.config.limits);
+        let caps = self.caps_from(&report);
         let inputs = Inputs {
             caps: &caps,
             net: &net,
@@ -204,6 +204,10 @@ impl Engine {
         let _ = bytes; // The time already includes the transfer.
         let raw = self.raw_of(mode).0;
         self.corrections.observe_first_display(mode, ms, raw);
+        // Its code is loaded now: later predictions do not count it.
+        if let Some(caps) = self.caps.as_mut() {
+            caps.code.displayed(mode);
+        }
         self.evaluate(Trigger::Displayed, now_ms)
     }
 
@@ -310,7 +314,17 @@ impl Engine {
     }
 
     fn set_report(&mut self, report: ClientReport) {
-        self.caps = Some(ClientCaps::from_report(&report, &self.config.limits));
+        let caps = self.caps_from(&report);
+        self.caps = Some(caps);
+    }
+
+    /// Caps from a report, keeping what code the page is known to hold.
+    fn caps_from(&self, report: &ClientReport) -> ClientCaps {
+        let mut caps = ClientCaps::from_report(report, &self.config.limits);
+        if let Some(old) = &self.caps {
+            caps.code.merge(&old.code);
+        }
+        caps
     }
 
     /// Re-evaluates every mode and decides whether to issue a decision.

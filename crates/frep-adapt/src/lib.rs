@@ -81,7 +81,7 @@ pub mod reason;
 pub mod stats;
 
 pub use choose::{CostWeights, Scored};
-pub use client::{ClientCaps, Limits};
+pub use client::{ClientCaps, Limits, LoadedCode};
 pub use config::{ConfigError, EngineConfig};
 pub use correction::{CorrectionConfig, Corrections, Factor, ModeFactors};
 pub use engine::Engine;

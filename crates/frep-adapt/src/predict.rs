@@ -36,6 +36,10 @@
 //!   - Transfer is bytes × 8 / bandwidth, plus one round trip per request.
 //!     An artefact fetched over HTTP after its reference arrives on the
 //!     socket takes two.
+//! * **code**: a mode's first display also fetches the code the page does
+//!   not hold yet ([`code_bytes`]): its own chunk, three.js for the mesh
+//!   modes, frep.wasm for 4b ([`MODE_CODE_BYTES`], [`THREE_CODE_BYTES`],
+//!   [`WASM_CODE_BYTES`]).
 //! * **client**:
 //!   - The GPU benchmark `g` is the ms per 256² frame of a reference
 //!     ray-marched field of [`REFERENCE_STATEMENTS`] statements. A fixed
@@ -44,6 +48,11 @@
 //!     `g × pixels / 256² × (s + 20) / (ref + 20)` for `s` statements.
 //!   - Triangles draw at [`TRIANGLES_PER_MS_AT_1MS_BENCH`] / `g` per ms. A
 //!     raster fill of [`RASTER_FILL_FRACTION`] of a ray-march pixel is added.
+//!   - A software renderer rasterizes on the CPU: its triangles and fill
+//!     cost far more against its benchmark
+//!     ([`SOFTWARE_TRIANGLES_PER_MS_AT_1MS_BENCH`],
+//!     [`SOFTWARE_RASTER_FILL_FRACTION`]). Its every frame has a fixed
+//!     [`SOFTWARE_FRAME_BASE_MS`].
 //!   - A volume frame is [`VOLUME_MARCH_FACTOR`] × g per 256² pixels ×
 //!     grid / 64.
 //!   - Shader compilation costs [`COMPILE_BASE_MS`] plus, per statement,
@@ -74,8 +83,8 @@
 use frep_wire::{ImageEncoding, Mode, ModePrediction, ModeSettings, NetworkEstimate};
 use serde::Serialize;
 
-use crate::client::{ClientCaps, Limits};
-use crate::correction::Corrections;
+use crate::client::{uses_three, ClientCaps, Limits};
+use crate::correction::{mode_index, Corrections};
 use crate::stats::{ModelStats, ServerLoad};
 
 /// Server render ms per megapixel of a closed-form model.
@@ -94,9 +103,9 @@ pub const WEBP_BYTES_FACTOR: f64 = 0.52;
 pub const WEBP_EXTRA_ENCODE_MS_PER_MPIX: f64 = 134.0;
 /// PNG (fast) bytes per pixel (125 kB at 512²).
 pub const PNG_BYTES_PER_PIXEL: f64 = 0.477;
-/// Triangles = this × 4^depth (a compact solid filling a fair part of its
-/// box; a gyroid has ~10).
-pub const MESH_TRIANGLES_PER_CELL_FACTOR: f64 = 4.0;
+/// Triangles = this × 4^depth. The Table I examples have 4.4–8.4 at depth
+/// 7 (a compact solid filling a fair part of its box); a gyroid has ~10.
+pub const MESH_TRIANGLES_PER_CELL_FACTOR: f64 = 7.0;
 /// Server polygonizing µs per triangle for the reference tape.
 pub const MESH_SERVER_US_PER_TRIANGLE: f64 = 2.0;
 /// Fixed server ms of any mesh job.
@@ -140,6 +149,23 @@ pub const MESH_DECODE_MS_PER_TRIANGLE: f64 = 1.0e-4;
 pub const WASM_EVALS_PER_TRIANGLE: f64 = 150.0;
 /// Fixed ms of any client frame (the browser's own work).
 pub const FRAME_BASE_MS: f64 = 0.5;
+/// Fixed ms of a WebGL frame on a software renderer: SwiftShader's present
+/// and composite, on the CPU (its empty-scene frames take ~20 ms here).
+pub const SOFTWARE_FRAME_BASE_MS: f64 = 20.0;
+/// Triangles per ms of a software renderer whose benchmark takes 1 ms.
+/// SwiftShader drew sake_pot's 138 k triangles at 576² in 71–99 ms with a
+/// 13 ms benchmark; a hardware GPU's ratio is 20× higher.
+pub const SOFTWARE_TRIANGLES_PER_MS_AT_1MS_BENCH: f64 = 2.5e4;
+/// Cost of a rasterized pixel relative to a ray-marched one, in software.
+pub const SOFTWARE_RASTER_FILL_FRACTION: f64 = 0.1;
+/// Compressed bytes of each mode's own code chunk, in [`Mode::ALL`] order
+/// (web/dist, brotli: `still`, `viewset`, `mesh` with GLTFLoader and the
+/// meshopt decoder, `raycast*`, `wasmmesh` with the worker, `volume*`).
+pub const MODE_CODE_BYTES: [f64; 6] = [2_300.0, 1_900.0, 20_000.0, 6_500.0, 4_900.0, 6_000.0];
+/// Compressed bytes of three.js and the shared scene (modes 3 and 4b).
+pub const THREE_CODE_BYTES: f64 = 115_000.0;
+/// Compressed bytes of the WebAssembly kernel (frep.wasm).
+pub const WASM_CODE_BYTES: f64 = 225_000.0;
 
 /// Everything a prediction depends on.
 #[derive(Clone, Copy, Debug)]
@@ -444,7 +470,7 @@ fn still(s: &ModeSettings, inputs: &Inputs) -> Raw {
     let bytes = image_bytes(inputs, px, s.quality, s.format);
     let first = inputs.rtt()
         + server_image_ms(inputs, px, s.format)
-        + inputs.transfer_ms(bytes)
+        + inputs.transfer_ms(bytes + code_bytes(Mode::Still, inputs.caps))
         + decode_ms(inputs, px);
     let scale = s.moving_scale.max(1.0);
     let mpx = px / (scale * scale);
@@ -474,7 +500,7 @@ fn view_set(s: &ModeSettings, inputs: &Inputs) -> Raw {
         + inputs.transfer_ms(bytes)
         + decode_ms(inputs, px * count);
     Raw {
-        first: work,
+        first: work + inputs.transfer_ms(code_bytes(Mode::ViewSet, inputs.caps)),
         orbit: FRAME_BASE_MS + 0.5,
         edit: work,
         bytes,
@@ -526,9 +552,45 @@ pub fn gpu_work_ms(caps: &ClientCaps) -> f64 {
 /// Client ms to draw a frame of `triangles` at `pixels`.
 pub fn draw_ms(caps: &ClientCaps, triangles: f64, pixels: f64) -> f64 {
     let g = gpu_work_ms(caps);
-    FRAME_BASE_MS
-        + triangles * g / TRIANGLES_PER_MS_AT_1MS_BENCH
-        + g * pixels / BENCH_PIXELS * RASTER_FILL_FRACTION
+    let (per_ms, fill) = if caps.software {
+        (
+            SOFTWARE_TRIANGLES_PER_MS_AT_1MS_BENCH,
+            SOFTWARE_RASTER_FILL_FRACTION,
+        )
+    } else {
+        (TRIANGLES_PER_MS_AT_1MS_BENCH, RASTER_FILL_FRACTION)
+    };
+    frame_base_ms(caps) + triangles * g / per_ms + g * pixels / BENCH_PIXELS * fill
+}
+
+/// Fixed ms of a WebGL frame.
+pub fn frame_base_ms(caps: &ClientCaps) -> f64 {
+    if caps.software {
+        SOFTWARE_FRAME_BASE_MS
+    } else {
+        FRAME_BASE_MS
+    }
+}
+
+/// Code bytes `mode`'s first display fetches (what the page lacks).
+pub fn code_bytes(mode: Mode, caps: &ClientCaps) -> f64 {
+    let code = &caps.code;
+    let own = if code.modes[mode_index(mode)] {
+        0.0
+    } else {
+        MODE_CODE_BYTES[mode_index(mode)]
+    };
+    let three = if uses_three(mode) && !code.three {
+        THREE_CODE_BYTES
+    } else {
+        0.0
+    };
+    let wasm = if mode == Mode::WasmMesh && !code.wasm {
+        WASM_CODE_BYTES
+    } else {
+        0.0
+    };
+    own + three + wasm
 }
 
 /// Client ms to decode and upload a mesh.
@@ -550,6 +612,7 @@ fn server_mesh(s: &ModeSettings, inputs: &Inputs) -> Raw {
         (ms, bytes)
     };
     let (first, bytes) = fetch(s.mesh_depth);
+    let code = inputs.transfer_ms(code_bytes(Mode::ServerMesh, caps));
     let (edit, _) = fetch(s.coarse_depth.min(s.mesh_depth));
     let draw = draw_ms(
         caps,
@@ -557,7 +620,7 @@ fn server_mesh(s: &ModeSettings, inputs: &Inputs) -> Raw {
         caps.device_pixels(),
     );
     Raw {
-        first: first + draw,
+        first: first + code + draw,
         orbit: draw,
         edit: edit + draw,
         bytes,
@@ -568,7 +631,7 @@ fn server_mesh(s: &ModeSettings, inputs: &Inputs) -> Raw {
 pub fn shader_frame_ms(inputs: &Inputs, pixels: f64) -> f64 {
     let s = f64::from(inputs.stats.statements());
     let complexity = ((s + 20.0) / (REFERENCE_STATEMENTS + 20.0)).max(0.5);
-    FRAME_BASE_MS + gpu_work_ms(inputs.caps) * pixels / BENCH_PIXELS * complexity
+    frame_base_ms(inputs.caps) + gpu_work_ms(inputs.caps) * pixels / BENCH_PIXELS * complexity
 }
 
 /// Mode 4a: the model's shader compiled and ray cast on the client.
@@ -577,7 +640,10 @@ fn gpu_raycast(s: &ModeSettings, inputs: &Inputs) -> Raw {
     let bytes = 2048.0 + 40.0 * f64::from(inputs.stats.statements());
     let frame = shader_frame_ms(inputs, pixels(s));
     Raw {
-        first: 2.0 * inputs.rtt() + inputs.transfer_ms(bytes) + compile_ms(inputs) + frame,
+        first: 2.0 * inputs.rtt()
+            + inputs.transfer_ms(bytes + code_bytes(Mode::GpuRaycast, inputs.caps))
+            + compile_ms(inputs)
+            + frame,
         orbit: frame,
         // A parameter is a uniform: one more frame.
         edit: frame,
@@ -604,7 +670,7 @@ fn wasm_mesh(s: &ModeSettings, inputs: &Inputs) -> Raw {
     let upload = 0.2 * mesh_decode_ms(caps, tris);
     Raw {
         first: 2.0 * inputs.rtt()
-            + inputs.transfer_ms(bytes)
+            + inputs.transfer_ms(bytes + code_bytes(Mode::WasmMesh, caps))
             + wasm_mesh_ms(inputs, s.mesh_depth)
             + upload
             + draw,
@@ -638,7 +704,7 @@ pub fn volume_bytes(inputs: &Inputs, grid: u32) -> f64 {
 
 /// Client ms per volume frame at `pixels`.
 pub fn volume_frame_ms(caps: &ClientCaps, grid: u32, pixels: f64) -> f64 {
-    FRAME_BASE_MS
+    frame_base_ms(caps)
         + gpu_work_ms(caps) * pixels / BENCH_PIXELS * VOLUME_MARCH_FACTOR * f64::from(grid) / 64.0
 }
 
@@ -659,7 +725,7 @@ fn volume(s: &ModeSettings, inputs: &Inputs) -> Raw {
         + inputs.transfer_ms(bytes)
         + texture_upload_ms(inputs.caps, cells);
     Raw {
-        first: work + frame,
+        first: work + inputs.transfer_ms(code_bytes(Mode::Volume, inputs.caps)) + frame,
         orbit: frame,
         edit: work + frame,
         bytes,

@@ -5,7 +5,7 @@
 mod common;
 
 use common::*;
-use frep_adapt::predict::predict;
+use frep_adapt::predict::{predict, MESH_TRIANGLES_PER_CELL_FACTOR};
 use frep_adapt::{ClientCaps, Inputs};
 use frep_adapt::{ConfigError, Engine, EngineConfig, ServerLoad};
 use frep_wire::Mode;
@@ -438,9 +438,9 @@ fn server_measurements_replace_the_estimates() {
     e.server_measured(
         ServerSample::Mesh(MeshSample {
             depth: 6,
-            triangles: 20_000,
-            server_ms: 200.0,
-            bytes: 180_000,
+            triangles: 40_000,
+            server_ms: 400.0,
+            bytes: 360_000,
         }),
         1_000,
     );
@@ -449,10 +449,10 @@ fn server_measurements_replace_the_estimates() {
         Some(6)
     );
     let after = mesh(&e);
-    // 20 000 triangles at depth 6 is 4.9 per 4^depth: more triangles, and
+    // 40 000 triangles at depth 6 is 9.8 per 4^depth: more triangles, and
     // each costs more to make and to send.
-    let ratio = 20_000.0 / 4096.0 / 4.0;
-    let bytes = 9.0 * 20_000.0 * 4f64.powi(i32::from(settings.mesh_depth) - 6);
+    let ratio = 40_000.0 / 4096.0 / MESH_TRIANGLES_PER_CELL_FACTOR;
+    let bytes = 9.0 * 40_000.0 * 4f64.powi(i32::from(settings.mesh_depth) - 6);
     assert!(
         (after.bytes - bytes).abs() < 1.0,
         "{} vs {bytes}",
@@ -509,7 +509,7 @@ fn a_lasting_hold_is_logged_once() {
 #[test]
 fn a_slow_display_lowers_the_settings_next_time() {
     let mut e = engine();
-    e.connect(workstation(), lan(), model(300), 0);
+    e.connect(workstation(), net(5.0, 40.0), model(300), 0);
     let d0 = e
         .set_override(Some(Mode::ServerMesh), 100)
         .expect("decides");

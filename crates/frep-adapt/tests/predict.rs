@@ -162,3 +162,90 @@ fn hard_refusals() {
     let wasm = refusal(Mode::WasmMesh, &inputs, &limits).unwrap_or_default();
     assert!(wasm.contains("WebAssembly"), "{wasm}");
 }
+
+/// A client like the paper bench's desktop: a 576² viewport, a 13 ms GPU
+/// benchmark, on SwiftShader or on a hardware GPU.
+fn bench_desktop(renderer: &str) -> ClientCaps {
+    let report = ClientReport {
+        user_agent: String::new(),
+        webgl2: true,
+        renderer: Some(renderer.into()),
+        max_texture_size: 8192,
+        max_3d_texture_size: 512,
+        webgpu: false,
+        gpu_bench_ms: Some(13.0),
+        wasm_bench_meps: Some(7.0),
+        cpu_bench_ms: Some(14.0),
+        screen: Screen {
+            width: 576,
+            height: 576,
+            pixel_ratio: 1.0,
+        },
+        mobile: false,
+        device_memory_gb: Some(8.0),
+        cores: Some(2),
+    };
+    ClientCaps::from_report(&report, &Limits::default())
+}
+
+const SWIFTSHADER: &str =
+    "ANGLE (Google, Vulkan 1.3.0 (SwiftShader Device (Subzero) (0x0000C0DE)), SwiftShader driver)";
+
+#[test]
+fn a_software_renderer_draws_meshes_slowly() {
+    use frep_adapt::predict::draw_ms;
+    // SwiftShader drew sake_pot's 138 k triangles at 576² in 71–99 ms
+    // (docs/paper.md) with a 13 ms benchmark.
+    let soft = bench_desktop(SWIFTSHADER);
+    let ms = draw_ms(&soft, 137_564.0, soft.device_pixels());
+    assert!((60.0..150.0).contains(&ms), "{ms}");
+    // The same benchmark on a hardware GPU: the triangles are nearly free.
+    let hard = bench_desktop("ANGLE (NVIDIA, NVIDIA GeForce RTX 4090 Direct3D11)");
+    let hw = draw_ms(&hard, 137_564.0, hard.device_pixels());
+    assert!(hw < ms / 10.0, "{hw} vs {ms}");
+}
+
+#[test]
+fn a_first_display_fetches_the_code_the_page_lacks() {
+    use frep_adapt::predict::{code_bytes, THREE_CODE_BYTES, WASM_CODE_BYTES};
+    let mut c = bench_desktop(SWIFTSHADER);
+    // The WASM benchmark ran in the kernel: frep.wasm is loaded.
+    assert!(c.code.wasm);
+    let mesh = code_bytes(Mode::ServerMesh, &c);
+    assert!(mesh > THREE_CODE_BYTES, "{mesh}");
+    let still = code_bytes(Mode::Still, &c);
+    assert!(still < 10_000.0, "{still}");
+    // On a 1.5 Mbit/s link three.js alone is ~0.6 s of the mesh's first display.
+    let first = |c: &ClientCaps| {
+        let net = NetworkEstimate {
+            rtt_ms: 150.0,
+            bandwidth_bps: 1.5e6,
+            samples: 4,
+        };
+        let st = stats(40);
+        let inputs = Inputs {
+            caps: c,
+            net: &net,
+            stats: &st,
+            load: ServerLoad::default(),
+        };
+        predict(
+            Mode::ServerMesh,
+            &settings(),
+            &inputs,
+            &Limits::default(),
+            &Corrections::default(),
+        )
+        .first_display_ms
+    };
+    let cold = first(&c);
+    // Once a mesh mode was shown, the other finds three.js loaded.
+    c.code.displayed(Mode::ServerMesh);
+    let warm = first(&c);
+    assert!(cold - warm > 600.0, "{cold} → {warm}");
+    assert_eq!(code_bytes(Mode::ServerMesh, &c), 0.0);
+    assert!(code_bytes(Mode::WasmMesh, &c) < 10_000.0);
+    // Without the WASM benchmark, 4b also fetches the kernel.
+    c.code.wasm = false;
+    assert!(code_bytes(Mode::WasmMesh, &c) >= WASM_CODE_BYTES);
+}

@@ -24,6 +24,10 @@ pub struct SessionConfig {
     pub probe_round_bytes: u64,
     /// A round stops starting new probes after this long, ms.
     pub probe_budget_ms: u64,
+    /// A probe is sent only if the round's bandwidth so far says it takes
+    /// at most this long, ms. So probes stay short on a slow link, where
+    /// they would hold up the first display.
+    pub probe_max_transfer_ms: f64,
     /// A probe the client has not answered after this long is given up, ms.
     pub probe_timeout_ms: u64,
     /// Re-probe this often, ms (0: only at the start and when frames show
@@ -40,6 +44,11 @@ pub struct SessionConfig {
     pub prior_rtt_ms: f64,
     /// Prior bandwidth before any probe, bits/s.
     pub prior_bandwidth_bps: f64,
+    /// The first decision waits this long after the hello for the first
+    /// probe's figure, ms (0: decide on the prior at once). A guessed link
+    /// can send a 1 MB mesh down a 1.5 Mbit/s line; the wait is one round
+    /// trip and 16 kB.
+    pub first_decision_wait_ms: u64,
     /// The engine re-decides at least this often, ms.
     pub tick_ms: u64,
     /// Streamed frames rendering or unacknowledged at once (mode 1).
@@ -71,6 +80,7 @@ impl Default for SessionConfig {
             probe_sizes: vec![16 << 10, 64 << 10, 256 << 10],
             probe_round_bytes: 1 << 20,
             probe_budget_ms: 2_000,
+            probe_max_transfer_ms: 250.0,
             probe_timeout_ms: 10_000,
             reprobe_ms: 30_000,
             reprobe_min_ms: 5_000,
@@ -78,6 +88,7 @@ impl Default for SessionConfig {
             rtt_window: 16,
             prior_rtt_ms: 50.0,
             prior_bandwidth_bps: 10e6,
+            first_decision_wait_ms: 400,
             tick_ms: 1_000,
             frames_in_flight: 2,
             frame_ack_timeout_ms: 5_000,

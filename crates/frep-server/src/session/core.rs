@@ -42,6 +42,8 @@ pub struct Session {
     prober: Prober,
     decider: Decider,
     hello: bool,
+    /// When the first hello came (the first decision waits for a probe).
+    hello_at: Option<Instant>,
     opened: Option<Opened>,
     open_gen: u64,
     opening: Option<JoinHandle<()>>,
@@ -111,6 +113,7 @@ impl Session {
             outbox: Vec::new(),
             decider,
             hello: false,
+            hello_at: None,
             opened: None,
             open_gen: 0,
             opening: None,
@@ -208,7 +211,8 @@ impl Session {
             } => match self.prober.probe_done(id, bytes, client_ms, at) {
                 Ok(msgs) => {
                     self.outbox.extend(msgs);
-                    self.network()
+                    // The first probe may be what the first decision waits for.
+                    self.network().or_else(|| self.connect())
                 }
                 Err(e) => {
                     self.error(e);
@@ -246,6 +250,7 @@ impl Session {
     fn on_report(&mut self, report: ClientReport, now: u64, at: Instant) -> Option<Decision> {
         let first = !self.hello;
         self.hello = true;
+        self.hello_at.get_or_insert(at);
         let d = self.decider.report(report, now);
         if first {
             self.outbox.push(self.prober.ping(at));
@@ -297,14 +302,23 @@ impl Session {
         None
     }
 
-    /// Connects the engine when both the hello and a model are there.
+    /// Connects the engine when both the hello and a model are there, and
+    /// the link is measured or `first_decision_wait_ms` has passed.
     fn connect(&mut self) -> Option<Decision> {
-        if self.decider.connected() {
+        if self.decider.connected() || self.awaiting_probe() {
             return None;
         }
         let stats = ModelStats::from_summary(self.opened.as_ref()?.compiled.summary());
         self.decider
             .model(stats, self.prober.estimate(), self.now())
+    }
+
+    /// Whether the first decision still waits for the first probe.
+    fn awaiting_probe(&self) -> bool {
+        let wait = Duration::from_millis(self.config.first_decision_wait_ms);
+        !self.prober.has_bandwidth()
+            && self.prober.probing()
+            && self.hello_at.is_some_and(|t| t.elapsed() < wait)
     }
 
     fn network(&mut self) -> Option<Decision> {
@@ -522,6 +536,10 @@ impl Session {
         let timeout = Duration::from_millis(self.config.frame_ack_timeout_ms);
         self.in_flight
             .retain(|_, f| at.duration_since(f.sent) < timeout);
+        // The first decision's wait for a probe is over.
+        if let Some(d) = self.connect() {
+            self.apply(d);
+        }
         let now = self.now();
         if now.saturating_sub(self.last_tick) >= self.config.tick_ms {
             self.last_tick = now;

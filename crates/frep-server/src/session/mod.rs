@@ -144,7 +144,9 @@ async fn serve(
     let mut changes = state.changes.subscribe();
     let mut shutdown = state.shutdown.clone();
     let cfg = s.config();
-    let every = cfg.tick_ms.min(cfg.ping_ms).clamp(10, 500);
+    // Often enough to end the first decision's wait for a probe in time.
+    let wait = cfg.first_decision_wait_ms.max(1).div_ceil(4);
+    let every = cfg.tick_ms.min(cfg.ping_ms).min(wait).clamp(10, 500);
     let mut tick = tokio::time::interval(Duration::from_millis(every));
     tick.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
     s.welcome();

@@ -15,9 +15,13 @@
 //! - Else it is the server's time from sending to the `probeDone`, less one
 //!   round trip: the first byte's trip out and the answer's trip back.
 //! - The round's bandwidth is its bytes over the sum of its transfer times,
-//!   so the largest probes weigh most.
+//!   so the largest probes weigh most. Before the first round ends, its
+//!   probes so far give the figure.
 //! - A round stops after its sizes, `probe_round_bytes`, or
-//!   `probe_budget_ms`.
+//!   `probe_budget_ms`. It also stops before a probe that the round's
+//!   bandwidth so far says would take over `probe_max_transfer_ms`. On a
+//!   1.5 Mbit/s link 16 kB measure it; 256 kB more would hold up the first
+//!   display for 1.4 s.
 //! - Rounds repeat every `reprobe_ms`. They come sooner (never within
 //!   `reprobe_min_ms`) when acknowledged frames imply a throughput far under
 //!   the estimate: the link changed.
@@ -46,6 +50,22 @@ struct Round {
     sent_bytes: u64,
     bytes: u64,
     transfer_ms: f64,
+}
+
+impl Round {
+    /// Bits per second so far, once a probe came back.
+    fn bandwidth(&self) -> Option<f64> {
+        (self.bytes > 0 && self.transfer_ms > 0.0)
+            .then(|| self.bytes as f64 * 8.0 / (self.transfer_ms / 1e3))
+    }
+
+    /// ms to send `bytes` at the round's bandwidth so far (0 before any).
+    fn predicted_ms(&self, bytes: u64) -> f64 {
+        if self.bytes == 0 || self.transfer_ms <= 0.0 {
+            return 0.0;
+        }
+        bytes as f64 * self.transfer_ms / self.bytes as f64
+    }
 }
 
 /// A probe waiting for its `probeDone`.
@@ -129,11 +149,21 @@ impl Prober {
     /// The current estimate (priors where nothing is measured; `samples`
     /// counts pongs and probes).
     pub fn estimate(&self) -> NetworkEstimate {
+        let so_far = self.round.as_ref().and_then(Round::bandwidth);
         NetworkEstimate {
             rtt_ms: self.rtt_ms(),
-            bandwidth_bps: self.bandwidth.unwrap_or(self.config.prior_bandwidth_bps),
+            bandwidth_bps: self
+                .bandwidth
+                .or(so_far)
+                .unwrap_or(self.config.prior_bandwidth_bps),
             samples: self.rtts.len() as u32 + self.probes,
         }
+    }
+
+    /// Whether a bandwidth figure was measured (a round, or a probe of the
+    /// one under way).
+    pub fn has_bandwidth(&self) -> bool {
+        self.bandwidth.is_some() || self.round.as_ref().is_some_and(|r| r.bytes > 0)
     }
 
     /// Whether a ping is due.
@@ -181,8 +211,12 @@ impl Prober {
         let Some(round) = self.round.as_mut() else {
             return Vec::new();
         };
+        let max_ms = self.config.probe_max_transfer_ms;
         let size = round.sizes.pop_front().filter(|s| {
-            *s > 0 && round.sent_bytes + s <= cap && now.duration_since(round.started) < budget
+            *s > 0
+                && round.sent_bytes + s <= cap
+                && now.duration_since(round.started) < budget
+                && round.predicted_ms(*s) <= max_ms
         });
         let Some(size) = size else {
             self.finish_round();
@@ -354,6 +388,27 @@ mod tests {
         assert!((e.bandwidth_bps - 10e6).abs() < 1.0, "{e:?}");
         assert_eq!(e.samples, 2);
         assert!(!p.round_due(t2), "not again so soon");
+    }
+
+    #[test]
+    fn a_slow_link_gets_no_larger_probe() {
+        let cfg = Arc::new(SessionConfig {
+            probe_sizes: vec![16_000, 64_000, 256_000],
+            probe_max_transfer_ms: 250.0,
+            ..SessionConfig::default()
+        });
+        let mut p = Prober::new(cfg, "s");
+        let t0 = Instant::now();
+        let (id, bytes) = probe_id(&p.start_round(t0));
+        // 16 kB in 85 ms is 1.5 Mbit/s: 64 kB would take 340 ms.
+        let t1 = t0 + Duration::from_millis(240);
+        assert!(p.probe_done(id, bytes, 85.0, t1).unwrap().is_empty());
+        assert!(!p.probing(), "the round ends");
+        let e = p.estimate();
+        assert!(
+            (e.bandwidth_bps - 16_000.0 * 8.0 / 0.085).abs() < 1.0,
+            "{e:?}"
+        );
     }
 
     #[test]
