@@ -45,7 +45,12 @@
 //!     ray-marched field of [`REFERENCE_STATEMENTS`] statements. A fixed
 //!     [`BENCH_OVERHEAD_MS`] of synchronising is taken off ([`gpu_work_ms`]).
 //!   - `g` scales the generated shader's frame:
-//!     `g × pixels / 256² × (s + 20) / (ref + 20)` for `s` statements.
+//!     `g × pixels / 256² × (s + 20) / (ref + 20)` for `s` statements. On a
+//!     software renderer it is `g × pixels / 256² × (s + 4) / (ref + 4)`
+//!     × [`SOFTWARE_SHADER_FACTOR`]: measured on SwiftShader at 576², the
+//!     generated shader costs ~2.5e-5 ms per statement and pixel, 5–6
+//!     times the benchmark's (sphere 137 ms, sake_pot 720, android_robot
+//!     1450, complex_hemisphere 2600 a full frame, with a 13 ms benchmark).
 //!   - Triangles draw at [`TRIANGLES_PER_MS_AT_1MS_BENCH`] / `g` per ms. A
 //!     raster fill of [`RASTER_FILL_FRACTION`] of a ray-march pixel is added.
 //!   - A software renderer rasterizes on the CPU: its triangles and fill
@@ -56,10 +61,11 @@
 //!   - A volume frame is [`VOLUME_MARCH_FACTOR`] × g per 256² pixels ×
 //!     grid / 64.
 //!   - Shader compilation costs [`COMPILE_BASE_MS`] plus, per statement,
-//!     [`COMPILE_MS_PER_STATEMENT_GPU`] (twice that on mobile). On a software
-//!     renderer it is [`COMPILE_MS_PER_STATEMENT_SOFTWARE`] per statement:
-//!     SwiftShader's first frame of 1000 spheres (~4600 statements) took
-//!     ~7 s.
+//!     [`COMPILE_MS_PER_STATEMENT_GPU`] (twice that on mobile). SwiftShader
+//!     links at once and compiles at the first draw:
+//!     [`SOFTWARE_COMPILE_BASE_MS`] plus
+//!     [`COMPILE_MS_PER_STATEMENT_SOFTWARE`] per statement (its first frame
+//!     took 260–2550 ms more than the next, for 14–303 statements).
 //!   - The JS benchmark (`cpu_bench_ms` against [`CPU_BENCH_REFERENCE_MS`])
 //!     scales decoding.
 //!   - The WASM benchmark (million evaluations per second of a
@@ -69,7 +75,7 @@
 //! ## Per mode
 //! | mode | first display | orbit frame | edit (parameter drag) |
 //! |---|---|---|---|
-//! | 1 still | rtt + server image + transfer + decode | rtt + reduced server frame + transfer + decode | as an orbit frame |
+//! | 1 still | 2 rtt + server image + transfer + decode | (rtt + reduced server frame + transfer + decode) / frames in flight | rtt + reduced frame + transfer + decode |
 //! | 2 view set | 2 rtt + every view on the server + transfer + decode | local (~1 ms, fixed views) | the whole set again |
 //! | 3 server mesh | 2 rtt + server mesh + transfer + decode + draw | draw | coarse mesh, fetched the same way |
 //! | 4a GPU ray casting | 2 rtt + model transfer + compile + frame | frame | one frame (parameters are uniforms) |
@@ -135,7 +141,12 @@ pub const COMPILE_BASE_MS: f64 = 40.0;
 /// Compile ms per statement on a hardware GPU (all shader flavours).
 pub const COMPILE_MS_PER_STATEMENT_GPU: f64 = 0.05;
 /// Compile ms per statement on a software renderer.
-pub const COMPILE_MS_PER_STATEMENT_SOFTWARE: f64 = 1.5;
+pub const COMPILE_MS_PER_STATEMENT_SOFTWARE: f64 = 5.0;
+/// Fixed ms of compiling a generated shader on a software renderer.
+pub const SOFTWARE_COMPILE_BASE_MS: f64 = 250.0;
+/// The generated shader's cost per statement and pixel on a software
+/// renderer, relative to the GPU benchmark's.
+pub const SOFTWARE_SHADER_FACTOR: f64 = 5.5;
 /// `cpu_bench_ms` of the reference desktop.
 pub const CPU_BENCH_REFERENCE_MS: f64 = 10.0;
 /// Client JPEG decode ms per megapixel on the reference desktop.
@@ -147,6 +158,9 @@ pub const MESH_DECODE_MS_PER_TRIANGLE: f64 = 1.0e-4;
 /// Corners, edge roots and interval work are counted as points. On a 40 Meps
 /// desktop that is ~4 µs a triangle, twice the server's native cost.
 pub const WASM_EVALS_PER_TRIANGLE: f64 = 150.0;
+/// Streamed frames rendering or on their way at once (mode 1): the
+/// session's `frames_in_flight` default.
+pub const STILL_FRAMES_IN_FLIGHT: f64 = 2.0;
 /// Fixed ms of any client frame (the browser's own work).
 pub const FRAME_BASE_MS: f64 = 0.5;
 /// Fixed ms of a WebGL frame on a software renderer: SwiftShader's present
@@ -157,7 +171,7 @@ pub const SOFTWARE_FRAME_BASE_MS: f64 = 20.0;
 /// 13 ms benchmark; a hardware GPU's ratio is 20× higher.
 pub const SOFTWARE_TRIANGLES_PER_MS_AT_1MS_BENCH: f64 = 2.5e4;
 /// Cost of a rasterized pixel relative to a ray-marched one, in software.
-pub const SOFTWARE_RASTER_FILL_FRACTION: f64 = 0.1;
+pub const SOFTWARE_RASTER_FILL_FRACTION: f64 = 0.5;
 /// Compressed bytes of each mode's own code chunk, in [`Mode::ALL`] order
 /// (web/dist, brotli: `still`, `viewset`, `mesh` with GLTFLoader and the
 /// meshopt decoder, `raycast*`, `wasmmesh` with the worker, `volume*`).
@@ -382,14 +396,14 @@ pub fn tape_work(stats: &ModelStats) -> f64 {
 /// Predicted ms to compile the generated shader (to its first frame).
 pub fn compile_ms(inputs: &Inputs) -> f64 {
     let caps = inputs.caps;
-    let per = if caps.software {
-        COMPILE_MS_PER_STATEMENT_SOFTWARE
+    let (base, per) = if caps.software {
+        (SOFTWARE_COMPILE_BASE_MS, COMPILE_MS_PER_STATEMENT_SOFTWARE)
     } else if caps.mobile {
-        2.0 * COMPILE_MS_PER_STATEMENT_GPU
+        (COMPILE_BASE_MS, 2.0 * COMPILE_MS_PER_STATEMENT_GPU)
     } else {
-        COMPILE_MS_PER_STATEMENT_GPU
+        (COMPILE_BASE_MS, COMPILE_MS_PER_STATEMENT_GPU)
     };
-    COMPILE_BASE_MS + per * f64::from(inputs.stats.statements())
+    base + per * f64::from(inputs.stats.statements())
 }
 
 /// Server ms to render and encode `pixels` at the current load (a
@@ -468,7 +482,9 @@ fn pixels(settings: &ModeSettings) -> f64 {
 fn still(s: &ModeSettings, inputs: &Inputs) -> Raw {
     let px = pixels(s);
     let bytes = image_bytes(inputs, px, s.quality, s.format);
-    let first = inputs.rtt()
+    // One round trip for the open and the artefact's address, one for
+    // the image.
+    let first = 2.0 * inputs.rtt()
         + server_image_ms(inputs, px, s.format)
         + inputs.transfer_ms(bytes + code_bytes(Mode::Still, inputs.caps))
         + decode_ms(inputs, px);
@@ -477,15 +493,18 @@ fn still(s: &ModeSettings, inputs: &Inputs) -> Raw {
     // Streamed frames are JPEG whatever the still's format: WebP's encoder
     // is five times slower.
     let mbytes = image_bytes(inputs, mpx, s.moving_quality, ImageEncoding::Jpeg);
-    let orbit = inputs.rtt()
-        + server_image_ms(inputs, mpx, ImageEncoding::Jpeg)
-        + inputs.transfer_ms(mbytes)
-        + decode_ms(inputs, mpx);
+    let render = server_image_ms(inputs, mpx, ImageEncoding::Jpeg);
+    let transfer = inputs.transfer_ms(mbytes);
+    let decode = decode_ms(inputs, mpx);
+    let latency = inputs.rtt() + render + transfer + decode;
+    // Frames are pipelined: a new one every latency / in flight, unless
+    // one stage alone is slower.
+    let orbit = (latency / STILL_FRAMES_IN_FLIGHT).max(render.max(transfer).max(decode));
     Raw {
         first,
         orbit,
-        // A drag streams reduced frames like an orbit.
-        edit: orbit,
+        // A drag streams reduced frames; each shows after the latency.
+        edit: latency,
         bytes,
     }
 }
@@ -630,7 +649,11 @@ fn server_mesh(s: &ModeSettings, inputs: &Inputs) -> Raw {
 /// Client ms per frame of the generated shader at `pixels`.
 pub fn shader_frame_ms(inputs: &Inputs, pixels: f64) -> f64 {
     let s = f64::from(inputs.stats.statements());
-    let complexity = ((s + 20.0) / (REFERENCE_STATEMENTS + 20.0)).max(0.5);
+    let complexity = if inputs.caps.software {
+        (s + 4.0) / (REFERENCE_STATEMENTS + 4.0) * SOFTWARE_SHADER_FACTOR
+    } else {
+        ((s + 20.0) / (REFERENCE_STATEMENTS + 20.0)).max(0.5)
+    };
     frame_base_ms(inputs.caps) + gpu_work_ms(inputs.caps) * pixels / BENCH_PIXELS * complexity
 }
 

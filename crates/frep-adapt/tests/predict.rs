@@ -249,3 +249,26 @@ fn a_first_display_fetches_the_code_the_page_lacks() {
     c.code.wasm = false;
     assert!(code_bytes(Mode::WasmMesh, &c) >= WASM_CODE_BYTES);
 }
+
+#[test]
+fn a_software_renderer_ray_casts_the_generated_shader_slowly() {
+    use frep_adapt::predict::shader_frame_ms;
+    // SwiftShader drew sake_pot's 69-statement shader at 576² in ~720 ms
+    // a full frame, with a 13 ms benchmark.
+    let soft = bench_desktop(SWIFTSHADER);
+    let net = NetworkEstimate {
+        rtt_ms: 1.0,
+        bandwidth_bps: 1e9,
+        samples: 4,
+    };
+    let mut st = stats(70);
+    st.shader_statements = 69;
+    let inputs = Inputs {
+        caps: &soft,
+        net: &net,
+        stats: &st,
+        load: ServerLoad::default(),
+    };
+    let ms = shader_frame_ms(&inputs, 576.0 * 576.0);
+    assert!((360.0..1440.0).contains(&ms), "{ms}");
+}

@@ -89,7 +89,7 @@ fn software_renderer_does_not_ray_cast_a_heavy_model() {
     let d = engine().connect(laptop_swiftshader(), net(50.0, 20.0), long.clone(), 0);
     let gpu = prediction(&d, Mode::GpuRaycast);
     let why = gpu.refusal.as_deref().unwrap_or("");
-    assert!(why.contains("on SwiftShader would take ≈ 6 s"), "{why}");
+    assert!(why.contains("on SwiftShader would take ≈ 20 s"), "{why}");
     let d = engine().connect(workstation(), lan(), long, 0);
     assert!(prediction(&d, Mode::GpuRaycast).feasible);
 }
@@ -232,7 +232,8 @@ fn slow_frames_that_recover_do_not_downgrade() {
 #[test]
 fn edits_slower_than_patience_downgrade_like_slow_frames() {
     // An integrated GPU without a WASM benchmark, a mid-size model on a
-    // 3 Mbit/s link: server slices ray marched on the client.
+    // 3 Mbit/s link with 150 ms round trips: server slices ray marched on
+    // the client.
     let mut report = client(
         "ANGLE (Intel, Intel(R) UHD Graphics 620)",
         Some(3.0),
@@ -241,7 +242,7 @@ fn edits_slower_than_patience_downgrade_like_slow_frames() {
     );
     report.wasm_bench_meps = None;
     let mut e = engine();
-    let d0 = e.connect(report, net(3.0, 80.0), model(300), 0);
+    let d0 = e.connect(report, net(3.0, 150.0), model(300), 0);
     assert_eq!(d0.mode, Mode::Volume, "{}", d0.reason);
     // The link collapses to 30 kbit/s: the volume still orbits smoothly,
     // but every parameter edit would wait seconds for new slices. That is

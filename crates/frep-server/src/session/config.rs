@@ -113,3 +113,17 @@ impl SessionConfig {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_engine_predicts_the_frames_in_flight_the_session_allows() {
+        let d = SessionConfig::default();
+        assert_eq!(
+            d.frames_in_flight as f64,
+            frep_adapt::predict::STILL_FRAMES_IN_FLIGHT
+        );
+    }
+}

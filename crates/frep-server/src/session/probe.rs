@@ -11,7 +11,9 @@
 //! - Each is preceded by a ping. The client can then time the transfer
 //!   from the ping's arrival to the probe's (its `clientMs`).
 //! - A probe's transfer time is the client's figure when it gave one, which
-//!   excludes the trip back.
+//!   excludes the trip back. But a hop that buffers can deliver the ping
+//!   with the probe, and the client then times almost nothing: a figure
+//!   under a quarter of the server's (over 20 ms) gives way to the server's.
 //! - Else it is the server's time from sending to the `probeDone`, less one
 //!   round trip: the first byte's trip out and the answer's trip back.
 //! - The round's bandwidth is its bytes over the sum of its transfer times,
@@ -37,6 +39,9 @@ use super::wire;
 
 /// Shortest transfer time believed, ms (loopback transfers round to 0).
 const MIN_TRANSFER_MS: f64 = 0.01;
+/// A server-timed transfer over this long, ms, tells a coalesced probe
+/// (the client's figure under a quarter of it) from loopback jitter.
+const COALESCED_MIN_MS: f64 = 20.0;
 /// Acknowledged frames looked at to decide that the link changed.
 const FRAME_WINDOW: usize = 8;
 /// Frames implying under `1 / FRAME_DROP` of the estimate ask for a probe.
@@ -264,13 +269,18 @@ impl Prober {
             ));
         }
         let server_ms = now.duration_since(out.sent).as_secs_f64() * 1e3;
-        let transfer = if client_ms.is_finite() && client_ms > 0.0 && client_ms <= server_ms {
+        // The server's time less a round trip. But never less than half of
+        // it: the rtt is a median and can exceed this one trip.
+        let by_server = (server_ms - self.rtt_ms()).max(server_ms * 0.5);
+        let client_ok = client_ms.is_finite() && client_ms > 0.0 && client_ms <= server_ms;
+        // A buffering hop can hand the ping and the probe over at once: the
+        // client then times nearly nothing. Its figure far under the
+        // server's, on a transfer long enough to tell, is not believed.
+        let coalesced = by_server > COALESCED_MIN_MS && client_ms < by_server / 4.0;
+        let transfer = if client_ok && !coalesced {
             client_ms
         } else {
-            // Without the client's figure, the server's time less a round
-            // trip. But never less than half of it: the rtt is a median and
-            // can exceed this one trip.
-            (server_ms - self.rtt_ms()).max(server_ms * 0.5)
+            by_server
         };
         if let Some(r) = self.round.as_mut() {
             r.bytes += bytes;
@@ -409,6 +419,19 @@ mod tests {
             (e.bandwidth_bps - 16_000.0 * 8.0 / 0.085).abs() < 1.0,
             "{e:?}"
         );
+    }
+
+    #[test]
+    fn a_coalesced_probe_is_timed_by_the_server() {
+        let mut p = Prober::new(config(), "s");
+        let t0 = Instant::now();
+        let (id, bytes) = probe_id(&p.start_round(t0));
+        // The client timed 0.1 ms, but the answer took 100 ms (a 50 ms
+        // prior round trip): 50 ms of transfer is believed.
+        let t1 = t0 + Duration::from_millis(100);
+        p.probe_done(id, bytes, 0.1, t1).unwrap();
+        let e = p.estimate();
+        assert!((e.bandwidth_bps - 1000.0 * 8.0 / 0.05).abs() < 1.0, "{e:?}");
     }
 
     #[test]
