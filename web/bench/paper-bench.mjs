@@ -21,8 +21,10 @@
  * reason; the run goes on.
  *
  * Usage: node web/bench/paper-bench.mjs [--quick] [--reps N] [--models a,b]
- *   [--profiles FILE] [--out DIR] (DIR gets paper.md and paper/*.svg;
- *   default docs/, none with --quick unless --out is given).
+ *   [--techs a,b] [--profiles FILE] [--out DIR] (DIR gets paper.md,
+ *   paper/*.svg and paper/results.json, every run with the engine's
+ *   decisions and the client's report; default docs/, none with --quick
+ *   unless --out is given).
  * Environment: FREP_BIN, FREP_CHROMIUM, FREP_BENCH_CASE_TIMEOUT_MS (60000).
  */
 import { mkdirSync, readFileSync, writeFileSync } from 'node:fs';
@@ -50,11 +52,13 @@ const BASELINE_DEPTH = 5;
 const ORBIT_MS = 2000;
 /** Techniques that draw with WebGL2 (three.js or the generated shader). */
 const NEEDS_WEBGL = new Set(['serverMesh', 'gpuRaycast', 'wasmMesh', 'baseline']);
-const TECHNIQUES = ['still', 'viewSet', 'serverMesh', 'gpuRaycast', 'wasmMesh', 'baseline', 'auto'];
+const ALL_TECHNIQUES = ['still', 'viewSet', 'serverMesh', 'gpuRaycast', 'wasmMesh', 'baseline', 'auto'];
+const TECHNIQUES = opt('--techs')?.split(',') ?? ALL_TECHNIQUES;
+for (const t of TECHNIQUES) if (!ALL_TECHNIQUES.includes(t)) throw new Error(`--techs: unknown technique ${t} (${ALL_TECHNIQUES.join(', ')})`);
 
 /** Counts bytes received and reads the session socket (decisions, frame-rate reports). */
 async function meter(cdp) {
-  const m = { bytes: 0, decision: null, frameRates: [], seen: new Set() };
+  const m = { bytes: 0, decision: null, decisions: [], report: null, frameRates: [], seen: new Set() };
   await cdp.send('Network.enable');
   cdp.on('Network.requestWillBeSent', (e) => m.seen.add(e.request.url));
   await cdp.send('Performance.enable');
@@ -66,6 +70,7 @@ async function meter(cdp) {
     if (p.startsWith('{"type":"decision"')) {
       try {
         m.decision = JSON.parse(p).decision ?? null;
+        if (m.decision) m.decisions.push(m.decision);
       } catch {
         /* not JSON: not a decision */
       }
@@ -73,6 +78,14 @@ async function meter(cdp) {
   });
   cdp.on('Network.webSocketFrameSent', (e) => {
     const p = e.response.payloadData ?? '';
+    // The client's last report: what the engine decided from.
+    if (p.startsWith('{"type":"hello"') || p.startsWith('{"type":"report"')) {
+      try {
+        m.report = JSON.parse(p).report ?? m.report;
+      } catch {
+        /* not JSON */
+      }
+    }
     if (p.includes('"frameRate"')) {
       try {
         const msg = JSON.parse(p);
@@ -169,7 +182,10 @@ async function runCase(env, profile, link, model, source, params, tech) {
     const png = await el.screenshot({ timeout: 20_000 });
     out.pixels = await page.evaluate((b) => window.paperBench.pixels(b), png.toString('base64'));
     if (out.pixels.coverage < 0.005 || out.pixels.lumaStd < 2) throw new Error(`blank frame (coverage ${(100 * out.pixels.coverage).toFixed(2)} %, luma σ ${out.pixels.lumaStd.toFixed(1)})`);
-    if (m.decision) out.decision = { mode: m.decision.mode, reason: m.decision.reason, predictions: m.decision.predictions };
+    if (m.decision) out.decision = { mode: m.decision.mode, reason: m.decision.reason, predictions: m.decision.predictions, network: m.decision.network, trigger: m.decision.trigger };
+    // Every decision and the client's report, for calibrating the engine (results.json).
+    out.decisions = m.decisions.map((d) => ({ seq: d.seq, trigger: d.trigger, mode: d.mode, settings: d.settings, network: d.network, predictions: d.predictions }));
+    out.report = m.report;
     // Orbit.
     if (tech === 'baseline') {
       const o = await page.evaluate((ms) => window.paperBench.orbitBaseline(ms), ORBIT_MS);
@@ -207,6 +223,7 @@ async function main() {
   const save = (partial) => {
     if (!OUT) return;
     mkdirSync(join(OUT, 'paper'), { recursive: true });
+    writeFileSync(join(OUT, 'paper', 'results.json'), JSON.stringify({ results, profiles, models: MODELS, reps: REPS }, null, 1));
     writeReport(OUT, { results, profiles, models: MODELS, reps: REPS, quick: QUICK, caseMs: CASE_MS, baselineDepth: BASELINE_DEPTH, orbitMs: ORBIT_MS, elapsedS: (Date.now() - started) / 1000, partial, chromium: CHROMIUM });
   };
   try {

@@ -5,7 +5,10 @@
  * leaves the WebSocket at loopback speed).
  *
  * Algorithm, per direction of each connection: a byte stream leaves the
- * sender in chunks of at most 16 KiB; each chunk is serialised on the
+ * sender in segments of at most 1460 bytes (one TCP segment on Ethernet,
+ * so a small message is not delivered late with the bytes read after
+ * it: larger chunks made the server's bandwidth probe, a ping then 16 kB,
+ * arrive at once); each segment is serialised on the
  * link after the previous one (`free = max(now, free) + bytes·8/rate`),
  * then delivered one one-way delay (RTT/2) later. The link's rate is
  * shared by the connections of one direction (one `free` clock per
@@ -15,7 +18,7 @@
  */
 import { createServer, connect } from 'node:net';
 
-const CHUNK = 16 * 1024;
+const CHUNK = 1460;
 
 /** One direction of the link: a shared serialisation clock. */
 function direction(bps) {
