@@ -528,3 +528,28 @@ fn a_slow_display_lowers_the_settings_next_time() {
         d.settings.mesh_depth
     );
 }
+
+#[test]
+fn a_mode_once_shown_no_longer_pays_for_its_code() {
+    // A 1.5 Mbit/s link: three.js (115 kB) is ~0.6 s of a first mesh.
+    let mut e = engine();
+    e.connect(workstation(), net(1.5, 50.0), model(80), 0);
+    let d0 = e
+        .set_override(Some(Mode::ServerMesh), 100)
+        .expect("decides");
+    let before = chosen(&d0).first_display_ms;
+    // Shown exactly as predicted: no correction, only the code is loaded.
+    e.displayed(Mode::ServerMesh, before, 100_000, 2_000);
+    let last = e.log().last().expect("logged");
+    assert!(last.inputs.caps.code.three);
+    let after = last
+        .predictions
+        .iter()
+        .find(|p| p.mode == Mode::ServerMesh)
+        .expect("predicted")
+        .first_display_ms;
+    assert!(before - after > 600.0, "{before} → {after}");
+    // Mode 4b shares three.js; its own chunk is still to load.
+    let caps = &last.inputs.caps;
+    assert!(frep_adapt::predict::code_bytes(Mode::WasmMesh, caps) < 10_000.0);
+}
