@@ -45,8 +45,8 @@ export async function baseline(t0: number, size: number, source: string, params:
   return { ms: performance.now() - t0, meshMs: pass.ms, triangles: pass.mesh.indices.length / 3 };
 }
 
-/** Turns the baseline's mesh for `ms` milliseconds; the median ms per frame. */
-export async function orbitBaseline(ms: number): Promise<{ frameMs: number; frames: number }> {
+/** Turns the baseline's mesh for `ms` milliseconds; the median and mean ms per frame. */
+export async function orbitBaseline(ms: number): Promise<{ frameMs: number; meanMs: number; frames: number }> {
   if (!stage || !shown) throw new Error('no baseline shown');
   const s = stage;
   const { bounds, size } = shown;
@@ -61,6 +61,11 @@ export async function orbitBaseline(ms: number): Promise<{ frameMs: number; fram
     times.push(performance.now());
   }
   const gaps = times.slice(1).map((t, i) => t - times[i]!).sort((a, b) => a - b);
-  return { frameMs: gaps.length ? gaps[Math.floor(gaps.length / 2)]! : NaN, frames: times.length };
+  const n = times.length;
+  return {
+    frameMs: gaps.length ? gaps[Math.floor(gaps.length / 2)]! : NaN,
+    meanMs: n > 1 ? (times[n - 1]! - times[0]!) / (n - 1) : NaN,
+    frames: n,
+  };
 }
 

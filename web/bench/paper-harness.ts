@@ -27,7 +27,7 @@ const paper = {
   },
 
   /** The baseline's orbit (paper-baseline.ts). */
-  async orbitBaseline(ms: number): Promise<{ frameMs: number; frames: number }> {
+  async orbitBaseline(ms: number): Promise<{ frameMs: number; meanMs: number; frames: number }> {
     const b = await import('./paper-baseline');
     return b.orbitBaseline(ms);
   },

@@ -208,9 +208,10 @@ const METHOD = (run) => `## Method
   HTTP and the session WebSocket alike (CDP's network emulation leaves the WebSocket unthrottled).
 - Clients (web/bench/paper-clients.mjs, named by web/bench/profiles.json, \`--profiles FILE\` to measure others):
 ${Object.entries(CLIENTS).map(([k, c]) => `  \`${k}\`: ${c.what}.`).join('\n')}
-- Orbit: a ${run.orbitMs / 1000} s horizontal mouse drag across the viewer; time per frame is the viewer's own frame-rate report
-  (median gap of the frames it drew, sent on the session socket as \`frameRate\`), the baseline's from its frame gaps.
-  For the still and view-set modes a frame is a new server image (or view) on screen.
+- Orbit: a ${run.orbitMs / 1000} s horizontal mouse drag across the viewer; time per frame is the mean interval of the frames
+  drawn, from the viewer's own frame-rate report (1000 / fps over its window, sent on the session socket as \`frameRate\`;
+  results.json also keeps the median gap), the baseline's from its frame times. For the still and view-set modes a
+  frame is a new server image (or view) on screen. The drag's mouse events come every ~33 ms: no mode can show more.
 - Failure: each case runs under a timeout; an error, a timeout or a blank frame is recorded with its reason and
   the run goes on. \`--quick\` exits non-zero when any case failed.
 `;
