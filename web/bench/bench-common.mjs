@@ -7,6 +7,7 @@
  */
 import { spawn, execSync } from 'node:child_process';
 import { mkdtempSync, readFileSync, rmSync, existsSync } from 'node:fs';
+import { brotliCompressSync, constants as zlib } from 'node:zlib';
 import { createServer } from 'node:net';
 import { tmpdir, cpus } from 'node:os';
 import { join, resolve } from 'node:path';
@@ -80,7 +81,13 @@ export async function startServer() {
 
 // ---------------------------------------------------------------- harness bundle
 
-/** Bundles `entry` (a file under web/bench) for /__bench/; `harness.js` is the entry chunk. */
+/**
+ * Bundles `entry` (a file under web/bench) for /__bench/; `harness.js` is
+ * the entry chunk. Each file also gets `wire`: its brotli size (quality 11,
+ * as web/build/precompress.ts writes the studio's), what the server would
+ * send. page.route cannot serve an encoded body, so the benches charge
+ * links and count bytes by `wire` instead of the raw body.
+ */
 export async function bundle(entry = 'bench-harness.ts') {
   const out = await build({
     configFile: false,
@@ -101,7 +108,8 @@ export async function bundle(entry = 'bench-harness.ts') {
     for (const o of r.output) {
       const body = o.type === 'chunk' ? Buffer.from(o.code ?? '') : Buffer.from(o.source ?? '');
       const type = o.fileName.endsWith('.js') ? 'text/javascript' : o.fileName.endsWith('.wasm') ? 'application/wasm' : 'application/octet-stream';
-      files.set(o.fileName, { body, type });
+      const wire = brotliCompressSync(body, { params: { [zlib.BROTLI_PARAM_QUALITY]: 11 } }).length;
+      files.set(o.fileName, { body, type, wire });
     }
   return files;
 }

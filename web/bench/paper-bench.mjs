@@ -21,7 +21,7 @@
  * reason; the run goes on.
  *
  * Usage: node web/bench/paper-bench.mjs [--quick] [--reps N] [--models a,b]
- *   [--techs a,b] [--profiles FILE] [--out DIR] (DIR gets paper.md,
+ *   [--techs a,b] [--profiles FILE] [--base FILE] [--out DIR] (DIR gets paper.md,
  *   paper/*.svg and paper/results.json, every run with the engine's
  *   decisions and the client's report; default docs/, none with --quick
  *   unless --out is given).
@@ -47,6 +47,8 @@ const MODELS = opt('--models')?.split(',') ?? (QUICK ? ['sphere', 'android_robot
 const PROFILES_FILE = resolve(opt('--profiles') ?? join(web, 'bench', 'profiles.json'));
 const OUT = opt('--out') ? resolve(opt('--out')) : QUICK ? null : join(repo, 'docs');
 const CASE_MS = Number(process.env.FREP_BENCH_CASE_TIMEOUT_MS ?? 60_000);
+/** `--base FILE`: an earlier run's results.json; this run's cells replace its cells, the report covers both. */
+const BASE = opt('--base') ? JSON.parse(readFileSync(resolve(opt('--base')), 'utf8')) : null;
 /** Marching-cubes depth of the baseline: 2^5 = 32 cells a side (the paper's resolution is not known; docs/paper.md). */
 const BASELINE_DEPTH = 5;
 const ORBIT_MS = 2000;
@@ -56,17 +58,33 @@ const ALL_TECHNIQUES = ['still', 'viewSet', 'serverMesh', 'gpuRaycast', 'wasmMes
 const TECHNIQUES = opt('--techs')?.split(',') ?? ALL_TECHNIQUES;
 for (const t of TECHNIQUES) if (!ALL_TECHNIQUES.includes(t)) throw new Error(`--techs: unknown technique ${t} (${ALL_TECHNIQUES.join(', ')})`);
 
-/** Counts bytes received and reads the session socket (decisions, frame-rate reports). */
-async function meter(cdp) {
-  const m = { bytes: 0, decision: null, decisions: [], report: null, frameRates: [], seen: new Set() };
+/**
+ * Counts bytes received and reads the session socket (decisions, frame-rate
+ * reports). `wire(path)`: the encoded size of a bench-served file (null for
+ * others), counted instead of its raw body.
+ */
+async function meter(cdp, wire) {
+  const m = { bytes: 0, decision: null, decisions: [], report: null, frameRates: [], seen: new Set(), urls: new Map(), received: [], socketBytes: 0 };
   await cdp.send('Network.enable');
-  cdp.on('Network.requestWillBeSent', (e) => m.seen.add(e.request.url));
+  cdp.on('Network.requestWillBeSent', (e) => {
+    m.seen.add(e.request.url);
+    m.urls.set(e.requestId, e.request.url);
+  });
   await cdp.send('Performance.enable');
-  cdp.on('Network.loadingFinished', (e) => (m.bytes += e.encodedDataLength));
+  cdp.on('Network.loadingFinished', (e) => {
+    // What the bytes were (results.json): the path and its encoded length.
+    const url = m.urls.get(e.requestId);
+    const path = url ? new URL(url).pathname : null;
+    const n = (path && wire(path)) ?? e.encodedDataLength;
+    m.bytes += n;
+    if (path) m.received.push({ path, bytes: n });
+  });
   cdp.on('Network.webSocketFrameReceived', (e) => {
     const p = e.response.payloadData ?? '';
-    if (e.response.opcode === 2) return void (m.bytes += Math.floor((p.length * 3) / 4));
-    m.bytes += Buffer.byteLength(p);
+    const n = e.response.opcode === 2 ? Math.floor((p.length * 3) / 4) : Buffer.byteLength(p);
+    m.bytes += n;
+    m.socketBytes += n;
+    if (e.response.opcode === 2) return;
     if (p.startsWith('{"type":"decision"')) {
       try {
         m.decision = JSON.parse(p).decision ?? null;
@@ -133,18 +151,20 @@ async function runCase(env, profile, link, model, source, params, tech) {
       const name = new URL(route.request().url()).pathname.replace(/^\/__bench\//, '');
       const f = env.files.get(name);
       if (!f) return route.fulfill({ status: 404, body: name });
-      // Bench-served code pays the link's cost as if it came over it.
-      if (link) await new Promise((r) => setTimeout(r, link.costMs(f.body.length)));
+      // Bench-served code pays the link's cost as if it came over it, brotli-encoded like the studio's.
+      if (link) await new Promise((r) => setTimeout(r, link.costMs(f.wire)));
       return route.fulfill({ body: f.body, contentType: f.type });
     });
     const cdp = await context.newCDPSession(page);
-    const m = await meter(cdp);
+    const m = await meter(cdp, (path) => (path.startsWith('/__bench/') ? (env.files.get(path.slice('/__bench/'.length))?.wire ?? null) : null));
     // A dedicated worker's requests (frep.wasm for the kernel) are not in the
     // page's CDP Network domain: Playwright reports them, counted here once.
     page.on('requestfinished', async (req) => {
       if (m.seen.has(req.url())) return;
       const z = await req.sizes().catch(() => null);
-      if (z) m.bytes += z.responseBodySize + z.responseHeadersSize;
+      if (!z) return;
+      m.bytes += z.responseBodySize + z.responseHeadersSize;
+      m.received.push({ path: new URL(req.url()).pathname, bytes: z.responseBodySize + z.responseHeadersSize });
     });
     if (client.cpuRate) await cdp.send('Emulation.setCPUThrottlingRate', { rate: client.cpuRate });
     await page.goto(`${link ? link.url : env.url}/api/health`);
@@ -164,6 +184,8 @@ async function runCase(env, profile, link, model, source, params, tech) {
     const forced = tech === 'auto' || tech === 'baseline' ? null : tech;
     if (tech !== 'baseline') await page.evaluate(([s, md]) => window.frepBench.mount(s, md), [size, forced]);
     m.bytes = 0;
+    m.socketBytes = 0;
+    m.received = [];
     const cpu0 = await cpuMs(cdp);
     const out = { tech };
     if (tech === 'baseline') {
@@ -176,6 +198,7 @@ async function runCase(env, profile, link, model, source, params, tech) {
     }
     const cpu1 = await cpuMs(cdp);
     out.bytes = m.bytes;
+    out.received = [...m.received, { path: '(session socket)', bytes: m.socketBytes }];
     out.cpuMs = cpu1.task - cpu0.task;
     out.scriptMs = cpu1.script - cpu0.script;
     const el = page.locator(tech === 'baseline' ? '[data-testid=baseline]' : '[data-testid=viewer]').first();
@@ -224,13 +247,16 @@ async function main() {
   const server = await startServer();
   const browsers = new Map();
   const links = new Map();
-  const results = [];
-  let counter = 0;
+  const results = BASE ? [...BASE.results] : [];
+  const shownProfiles = BASE ? [...BASE.profiles, ...profiles.filter((p) => !BASE.profiles.some((b) => b.name === p.name))] : profiles;
+  const shownModels = BASE ? [...new Set([...BASE.models, ...MODELS])] : MODELS;
+  // Each run a new a[1], also across a merged earlier run (no artefact from its cache).
+  let counter = BASE ? BASE.results.reduce((n, c) => n + c.runs.length, 0) : 0;
   const save = (partial) => {
     if (!OUT) return;
     mkdirSync(join(OUT, 'paper'), { recursive: true });
-    writeFileSync(join(OUT, 'paper', 'results.json'), JSON.stringify({ results, profiles, models: MODELS, reps: REPS }, null, 1));
-    writeReport(OUT, { results, profiles, models: MODELS, reps: REPS, quick: QUICK, caseMs: CASE_MS, baselineDepth: BASELINE_DEPTH, orbitMs: ORBIT_MS, elapsedS: (Date.now() - started) / 1000, partial, chromium: CHROMIUM });
+    writeFileSync(join(OUT, 'paper', 'results.json'), JSON.stringify({ results, profiles: shownProfiles, models: shownModels, reps: REPS }, null, 1));
+    writeReport(OUT, { results, profiles: shownProfiles, models: shownModels, reps: REPS, merged: !!BASE, quick: QUICK, caseMs: CASE_MS, baselineDepth: BASELINE_DEPTH, orbitMs: ORBIT_MS, elapsedS: (Date.now() - started) / 1000, partial, chromium: CHROMIUM });
   };
   try {
     const files = await bundle('paper-harness.ts');
@@ -256,7 +282,9 @@ async function main() {
             const params = [1 + ++counter / 1000];
             cell.runs.push(await runCase(env, profile, link, model, source, params, tech));
           }
-          results.push(cell);
+          const at = results.findIndex((c) => c.profile === cell.profile && c.model === cell.model && c.tech === cell.tech);
+          if (at >= 0) results[at] = cell;
+          else results.push(cell);
           const r = cell.runs[0];
           console.error(`[paper] ${profile.name} ${model} ${tech}: ${r.error ? `FAIL ${r.error}` : `${r.firstMs.toFixed(0)} ms shown ${r.shown}, ${(r.bytes / 1024).toFixed(0)} KB, cpu ${r.cpuMs.toFixed(0)} ms, orbit ${r.orbitMs?.toFixed?.(0) ?? '–'} ms/frame`}`);
         }

@@ -112,12 +112,13 @@ export function writeReport(out, run) {
   L.push('');
   if (run.partial) L.push('**PARTIAL: written while the run was going on; the cells below are the ones done.**', '');
   L.push(`Measured ${mc.date} on ${mc.nproc} cores (${mc.cpu}), commit ${mc.commit}${mc.dirty}, ${mc.chromium}, Node ${mc.node}.`);
-  L.push(`WebGL is SwiftShader (software, on the same CPU cores as the server). ${reps} repetition(s) per cell${run.quick ? ' (--quick)' : ''}, case timeout ${run.caseMs / 1000} s, whole run ${run.elapsedS.toFixed(0)} s.`);
+  L.push(`WebGL is SwiftShader (software, on the same CPU cores as the server). ${reps} repetition(s) per cell${run.quick ? ' (--quick)' : ''}, case timeout ${run.caseMs / 1000} s, ${run.merged ? `the last of the merged runs (--base) ${run.elapsedS.toFixed(0)} s` : `whole run ${run.elapsedS.toFixed(0)} s`}.`);
   L.push('The machine\'s 2 cores were shared with other jobs building at the same time: figures are noisy, compare rows with each other.');
   L.push('');
   L.push('Rerun (after the README\'s setup: `scripts/test.sh` builds target/release/frep, web/public/frep.wasm and web/dist):');
-  L.push('`scripts/bench-paper.sh [--reps N] [--models a,b] [--profiles FILE] [--out DIR]`; `--quick` (CI): two models, the');
-  L.push('profiles marked `quick`, one repetition, fails when any case shows no non-blank frame.');
+  L.push('`scripts/bench-paper.sh [--reps N] [--models a,b] [--techs a,b] [--profiles FILE] [--base results.json] [--out DIR]`;');
+  L.push('`--quick` (CI): two models, the profiles marked `quick`, one repetition, fails when any case shows no non-blank frame.');
+  L.push('`--base`: this run\'s cells replace those of an earlier run\'s `paper/results.json` (every run, decisions and all).');
   L.push('');
   L.push(`## Table I, first display (ms, median (min–max); profile "${p0}")`);
   L.push('');
