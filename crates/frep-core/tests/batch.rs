@@ -252,6 +252,7 @@ fn empty_and_zero_points() {
     let tape = g.tape(&[x]);
     let mut be = BatchEval::new(&tape);
     be.eval(&[], &[], &[], &Inputs::default(), &mut []);
+    be.eval_outputs_into(&[], &[], &[], &Inputs::default(), &mut []);
     let tape = Tape {
         nodes: vec![],
         outputs: vec![],
@@ -352,6 +353,10 @@ fn check_all_outputs(
     be.eval_outputs(&xs, &ys, &zs, inp, &mut outs);
     let mut out0 = vec![0.0; pts.len()];
     be.eval(&xs, &ys, &zs, inp, &mut out0);
+    // In place, output-major, over a buffer holding stale values.
+    let n = pts.len();
+    let mut flat = vec![f64::INFINITY; tape.outputs.len() * n];
+    be.eval_outputs_into(&xs, &ys, &zs, inp, &mut flat);
     for (i, p) in pts.iter().enumerate() {
         let want = r(tape, *p, inp);
         for (k, w) in want.iter().enumerate() {
@@ -359,6 +364,11 @@ fn check_all_outputs(
                 same(outs[k][i], *w),
                 "output {k} at {p:?}: batch {:e}, reference {w:e}\n{tape:?}",
                 outs[k][i]
+            );
+            assert!(
+                same(flat[k * n + i], *w),
+                "in place, output {k} at {p:?}: {:e} vs {w:e}\n{tape:?}",
+                flat[k * n + i]
             );
         }
         assert!(

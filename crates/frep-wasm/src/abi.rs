@@ -6,6 +6,11 @@
 //! [`frep_result_ptr`] / [`frep_result_len`] until the next call. A
 //! WebAssembly instance runs on one thread, so the state lives in a
 //! thread-local.
+//!
+//! The values of [`frep_eval_points`] are the result as they are: its `f64`
+//! buffer, kept from one evaluation to the next, so that repeated
+//! evaluations neither allocate nor convert (wasm32 is little-endian: the
+//! bytes are the `f64`s). Any other result frees that buffer.
 
 use std::alloc::{alloc, dealloc, Layout};
 use std::cell::RefCell;
@@ -21,7 +26,12 @@ const ALIGN: usize = 8;
 #[derive(Default)]
 struct State {
     kernel: Kernel,
+    /// The last call's result, unless `values_current`.
     result: Vec<u8>,
+    /// The values of the last evaluation of points.
+    values: Vec<f64>,
+    /// Whether the last call's result is `values`.
+    values_current: bool,
 }
 
 thread_local! {
@@ -33,7 +43,11 @@ fn with<R>(f: impl FnOnce(&mut State) -> R) -> R {
 }
 
 fn set_result(bytes: Vec<u8>) {
-    with(|s| s.result = bytes);
+    with(|s| {
+        s.result = bytes;
+        s.values = Vec::new();
+        s.values_current = false;
+    });
 }
 
 /// The result is an error message; returns -1.
@@ -120,13 +134,25 @@ pub unsafe extern "C" fn frep_dealloc(ptr: *mut u8, len: usize) {
 /// Where the last call's result is.
 #[no_mangle]
 pub extern "C" fn frep_result_ptr() -> *const u8 {
-    with(|s| s.result.as_ptr())
+    with(|s| {
+        if s.values_current {
+            s.values.as_ptr().cast()
+        } else {
+            s.result.as_ptr()
+        }
+    })
 }
 
 /// The last call's result's length in bytes.
 #[no_mangle]
 pub extern "C" fn frep_result_len() -> usize {
-    with(|s| s.result.len())
+    with(|s| {
+        if s.values_current {
+            std::mem::size_of_val(s.values.as_slice())
+        } else {
+            s.result.len()
+        }
+    })
 }
 
 /// Compiles a source (UTF-8) with JSON options ([`CompileRequest`]). The
@@ -180,7 +206,8 @@ pub extern "C" fn frep_outputs(handle: u32) -> i32 {
 
 /// Evaluates `n` points given planar (`3n` f64: all x, all y, all z) with
 /// `n_params` parameters; the result is `k·n` f64, output-major, NaN for an
-/// error. Returns `k`, or -1 (message in the result).
+/// error (little-endian, 8-aligned). Returns `k`, or -1 (message in the
+/// result).
 ///
 /// # Safety
 /// The buffers as in the crate docs (from `frep_alloc`), 8-aligned.
@@ -198,12 +225,17 @@ pub unsafe extern "C" fn frep_eval_points(
     }) else {
         return fail("misaligned buffer: f64 needs 8-byte alignment");
     };
-    let mut out = Vec::new();
-    match with(|s| s.kernel.eval_points(handle, xyz, params, &mut out)) {
-        Ok(k) => {
-            set_result(f64_bytes(&out));
-            k as i32
+    // Into the kept buffer: no allocation when the size repeats.
+    let r = with(|s| {
+        let r = s.kernel.eval_points(handle, xyz, params, &mut s.values);
+        s.values_current = r.is_ok();
+        if s.values_current {
+            s.result = Vec::new();
         }
+        r
+    });
+    match r {
+        Ok(k) => k as i32,
         Err(e) => fail(&e.0),
     }
 }

@@ -248,7 +248,8 @@ impl Kernel {
     /// Evaluates the value and the attributes at `n` points given planar
     /// (`xyz` = x₀…xₙ₋₁, y₀…, z₀…) with the batch evaluator: NaN where an
     /// error reaches an output. `out` receives output-major values
-    /// (`out[k·n + i]`: output `k` at point `i`).
+    /// (`out[k·n + i]`: output `k` at point `i`), in place: a caller that
+    /// keeps `out` between calls allocates nothing.
     pub fn eval_points(
         &mut self,
         handle: u32,
@@ -266,14 +267,15 @@ impl Kernel {
             .batch
             .get_or_insert_with(|| BatchEval::new(&model.tape_with_attributes()));
         let k = batch.tape().outputs.len();
-        let mut outs = vec![Vec::new(); k];
+        // Every slot is written, so a buffer of the right size is not
+        // cleared first (that would be one more pass over it).
+        if out.len() != k * n {
+            out.clear();
+            out.resize(k * n, 0.0);
+        }
         let (xs, rest) = xyz.split_at(n);
         let (ys, zs) = rest.split_at(n);
-        batch.eval_outputs(xs, ys, zs, &Inputs::with_params(params), &mut outs);
-        out.clear();
-        for o in &outs {
-            out.extend_from_slice(o);
-        }
+        batch.eval_outputs_into(xs, ys, zs, &Inputs::with_params(params), out);
         Ok(k)
     }
 

@@ -134,6 +134,19 @@ fn errors_are_reported_not_panics() {
         1
     );
     assert_eq!(out, vec![2.0, 1.75]);
+    // The kept buffer is rewritten whole, whatever it held.
+    out.fill(f64::INFINITY);
+    assert_eq!(
+        kernel
+            .eval_points(ok.handle, &[0.0, 0.5, 0.0, 0.0, 0.0, 0.0], &[2.0], &mut out)
+            .unwrap(),
+        1
+    );
+    assert_eq!(out, vec![2.0, 1.75]);
+    kernel
+        .eval_points(ok.handle, &[1.0, 0.0, 0.0], &[2.0], &mut out)
+        .unwrap();
+    assert_eq!(out, vec![1.0]);
     let deep = MeshRequest {
         bounds: b,
         depth: 14,

@@ -126,6 +126,8 @@ export function colorVolume(
   const row = n * n;
   // One z slice per call: n² points.
   const xyz = new Float64Array(3 * row);
+  // The values of each slice go where the last slice's went.
+  let out: Float64Array | undefined;
   const c = (a: number, i: number): number => bounds[a]! + ((i + 0.5) / n) * (bounds[a + 3]! - bounds[a]!);
   for (let k = 0; k < n; k++) {
     for (let j = 0; j < n; j++) {
@@ -136,7 +138,8 @@ export function colorVolume(
         xyz[2 * row + q] = c(2, k);
       }
     }
-    const { outputs, values } = kernel.evalPoints(handle, xyz, params);
+    const { outputs, values } = kernel.evalPoints(handle, xyz, params, out);
+    out = values;
     if (outputs < 4) return rgba;
     for (let q = 0; q < row; q++) {
       const s = [values[row + q]!, values[2 * row + q]!, values[3 * row + q]!];

@@ -146,6 +146,27 @@ export function unpackMesh(bytes: Uint8Array): KernelMesh {
   return { vertices, triangles, positions, normals, colors, indices };
 }
 
+/**
+ * Points kept in the module's memory (planar: all x, all y, all z) by
+ * {@link FrepKernel.uploadPoints}: {@link FrepKernel.evalPoints} reads
+ * them where they are, with no copy, as often as asked. It holds a
+ * pointer, not a view, so memory growth does not invalidate it; free it
+ * with {@link FrepKernel.freePoints}.
+ */
+export class KernelPoints {
+  /** @internal */
+  constructor(
+    /** @internal The kernel that holds them. */
+    readonly owner: FrepKernel,
+    /** @internal Where they are in the module's memory. */
+    readonly ptr: number,
+    /** Number of points. */
+    readonly n: number,
+    /** @internal Whether they were freed. */
+    public freed = false,
+  ) {}
+}
+
 /** The kernel: one WebAssembly instance (single-threaded; one call at a time). */
 export class FrepKernel {
   private readonly x: Exports;
@@ -240,19 +261,62 @@ export class FrepKernel {
   /**
    * Batch evaluation at `n` points given planar (all x, then all y, then
    * all z): output-major values, NaN where an error reaches an output.
+   * The values are copied into `out` when it is long enough (returned as
+   * its first `outputs·n` numbers), else into a new array: a caller that
+   * evaluates again and again passes the last `values` back and allocates
+   * nothing (a fresh array costs more than the copy). Points given as a
+   * Float64Array are copied into the module first; {@link KernelPoints}
+   * are read where they are.
    */
-  evalPoints(handle: number, xyz: Float64Array, params: number[] = []): { outputs: number; values: Float64Array } {
-    if (xyz.length % 3 !== 0) throw new KernelError('points: a multiple of 3 numbers (planar x, y, z)');
-    const p = this.putF64(xyz);
+  evalPoints(
+    handle: number,
+    xyz: Float64Array | KernelPoints,
+    params: number[] = [],
+    out?: Float64Array,
+  ): { outputs: number; values: Float64Array } {
+    let at: number;
+    let n: number;
+    let own: [number, number] | null = null;
+    if (xyz instanceof KernelPoints) {
+      if (xyz.owner !== this) throw new KernelError('points uploaded to another kernel');
+      if (xyz.freed) throw new KernelError('points already freed');
+      [at, n] = [xyz.ptr, xyz.n];
+    } else {
+      if (xyz.length % 3 !== 0) throw new KernelError('points: a multiple of 3 numbers (planar x, y, z)');
+      own = this.putF64(xyz);
+      [at, n] = [own[0], xyz.length / 3];
+    }
     const a = this.putF64(params);
     let k: number;
     try {
-      k = this.x.frep_eval_points(handle, p[0], xyz.length / 3, a[0], params.length);
+      k = this.x.frep_eval_points(handle, at, n, a[0], params.length);
     } finally {
-      this.free(p, a);
+      this.free(a);
+      if (own) this.free(own);
     }
     if (k < 0) throw new KernelError(this.text());
-    return { outputs: k, values: this.f64() };
+    const len = this.x.frep_result_len() / 8;
+    const values = out && out.length >= len ? out.subarray(0, len) : new Float64Array(len);
+    values.set(new Float64Array(this.x.memory.buffer, this.x.frep_result_ptr(), len));
+    return { outputs: k, values };
+  }
+
+  /**
+   * Copies points (planar: all x, all y, all z) into the module once, for
+   * repeated {@link evalPoints} with no copy in (see {@link KernelPoints}).
+   */
+  uploadPoints(xyz: Float64Array): KernelPoints {
+    if (xyz.length % 3 !== 0) throw new KernelError('points: a multiple of 3 numbers (planar x, y, z)');
+    const [ptr] = this.putF64(xyz);
+    return new KernelPoints(this, ptr, xyz.length / 3);
+  }
+
+  /** Gives back the memory of uploaded points (once; later uses throw). */
+  freePoints(points: KernelPoints): void {
+    if (points.owner !== this) throw new KernelError('points uploaded to another kernel');
+    if (points.freed) return;
+    points.freed = true;
+    this.free([points.ptr, 24 * points.n]);
   }
 
   /** One point with the reference interpreter's runtime errors. */

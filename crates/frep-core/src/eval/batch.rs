@@ -400,6 +400,44 @@ impl BatchEval {
         run(prog, &uni, xs, ys, zs, &mut slices);
         self.uni = uni;
     }
+
+    /// Evaluates every output of the tape into `out`, output-major:
+    /// `out[k·n + i]` is output `k` at point `i` (n points). The same values
+    /// as [`BatchEval::eval_outputs`], written in place: a caller that keeps
+    /// `out` between calls allocates nothing.
+    ///
+    /// # Panics
+    /// If `xs`, `ys`, `zs` differ in length, or `out` is not one slot per
+    /// output and point.
+    pub fn eval_outputs_into(
+        &mut self,
+        xs: &[f64],
+        ys: &[f64],
+        zs: &[f64],
+        inputs: &Inputs,
+        out: &mut [f64],
+    ) {
+        let n = xs.len();
+        let k = self.tape.outputs.len();
+        assert!(
+            ys.len() == n && zs.len() == n,
+            "BatchEval::eval_outputs_into: slices of different lengths"
+        );
+        assert_eq!(
+            out.len(),
+            k * n,
+            "BatchEval::eval_outputs_into: one slot per output and point"
+        );
+        if n == 0 {
+            return;
+        }
+        self.update_uniforms(inputs);
+        let uni = std::mem::take(&mut self.uni);
+        let prog = self.program(true);
+        let mut slices: Vec<&mut [f64]> = out.chunks_mut(n).collect();
+        run(prog, &uni, xs, ys, zs, &mut slices);
+        self.uni = uni;
+    }
 }
 
 /// Three distinct registers at once, in the order given.
