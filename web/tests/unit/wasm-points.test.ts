@@ -1,7 +1,8 @@
 /**
  * FrepKernel.evalPoints's two ways in and its way out: points copied in
- * per call or kept in the module (KernelPoints), values into a fresh array
- * or into the caller's. Checked against the sphere's closed form.
+ * per call (chunk by chunk) or kept in the module (KernelPoints), values
+ * into a fresh array or into the caller's. Checked against the sphere's
+ * closed form and against each other.
  */
 import { describe, expect, it } from 'vitest';
 import { benchPoints } from '../../src/wasm/host';
@@ -32,6 +33,26 @@ describe.skipIf(!wasmAvailable())('WebAssembly point evaluation', () => {
     expect(other.buffer).not.toBe(short.buffer);
     expect(Array.from(short)).toEqual(new Array(10).fill(0));
     expect(Array.from(other)).toEqual(Array.from(fresh));
+  });
+
+  it('gives the same values whatever the chunks, outputs in their planes', async () => {
+    const k = await loadKernel();
+    const c = k.compile(example('android_robot'));
+    const n = 1001;
+    const xyz = benchPoints(c.bounds!, n);
+    const kept = k.uploadPoints(xyz);
+    const whole = k.evalPoints(c.handle, kept);
+    expect(whole.outputs).toBeGreaterThan(1);
+    expect(whole.values.length).toBe(whole.outputs * n);
+    for (const chunk of [1, 7, 1000, 1001, 5000]) {
+      k.evalChunkPoints = chunk;
+      const r = k.evalPoints(c.handle, xyz, [], new Float64Array(whole.values.length).fill(-1));
+      expect(r.outputs).toBe(whole.outputs);
+      expect(Array.from(r.values)).toEqual(Array.from(whole.values));
+    }
+    // No points: no values, still the number of outputs.
+    expect(k.evalPoints(c.handle, new Float64Array(0))).toEqual({ outputs: whole.outputs, values: new Float64Array(0) });
+    expect(() => k.evalPoints(c.handle + 100, xyz)).toThrow(/no model/);
   });
 
   it('keeps points in the module across calls and memory growth', async () => {
