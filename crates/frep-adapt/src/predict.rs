@@ -163,18 +163,20 @@ pub const WASM_EVALS_PER_TRIANGLE: f64 = 150.0;
 pub const STILL_FRAMES_IN_FLIGHT: f64 = 2.0;
 /// Fixed ms of any client frame (the browser's own work).
 pub const FRAME_BASE_MS: f64 = 0.5;
-/// Fixed ms of a WebGL frame on a software renderer: SwiftShader's present
-/// and composite, on the CPU (its empty-scene frames take ~20 ms here).
+/// Fixed ms of a WebGL frame on a software renderer: SwiftShader presents
+/// and composites on the CPU. Fitted to its simplest scenes' orbit frames
+/// (50–70 ms at 576²), not measured alone.
 pub const SOFTWARE_FRAME_BASE_MS: f64 = 20.0;
 /// Triangles per ms of a software renderer whose benchmark takes 1 ms.
 /// SwiftShader drew sake_pot's 138 k triangles at 576² in 71–99 ms with a
-/// 13 ms benchmark; a hardware GPU's ratio is 20× higher.
+/// 13 ms benchmark (the hardware constant is 20 times this one).
 pub const SOFTWARE_TRIANGLES_PER_MS_AT_1MS_BENCH: f64 = 2.5e4;
 /// Cost of a rasterized pixel relative to a ray-marched one, in software.
 pub const SOFTWARE_RASTER_FILL_FRACTION: f64 = 0.5;
 /// Compressed bytes of each mode's own code chunk, in [`Mode::ALL`] order
 /// (web/dist, brotli: `still`, `viewset`, `mesh` with GLTFLoader and the
 /// meshopt decoder, `raycast*`, `wasmmesh` with the worker, `volume*`).
+/// Read off the build of 2026-11-28; they drift with the studio's code.
 pub const MODE_CODE_BYTES: [f64; 6] = [2_300.0, 1_900.0, 20_000.0, 6_500.0, 4_900.0, 6_000.0];
 /// Compressed bytes of three.js and the shared scene (modes 3 and 4b).
 pub const THREE_CODE_BYTES: f64 = 115_000.0;
