@@ -269,8 +269,20 @@ async fn probes_then_decides_with_reason_predictions_and_network() {
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn the_first_decision_waits_for_the_first_probe() {
-    let (server, _dir) = server().await;
-    // Open at once: the decision still rests on a measured link.
+    // A server whose first decisions wait `wait_ms` for a probe.
+    let waiting = |wait_ms: u64| async move {
+        let dir = tempfile::tempdir().unwrap();
+        let mut c = config(dir.path());
+        c.session = SessionConfig {
+            probe_sizes: vec![16 << 10, 64 << 10],
+            first_decision_wait_ms: wait_ms,
+            ..SessionConfig::default()
+        };
+        (Server::start(c).await, dir)
+    };
+    // Open at once: the decision still rests on a measured link. The wait
+    // is long, so only the probe's answer can end it.
+    let (server, _dir) = waiting(600_000).await;
     let mut c = Client::connect(&server, "ann").await;
     c.hello(report(true)).await;
     c.open_source(SPHERE).await;
@@ -283,8 +295,10 @@ async fn the_first_decision_waits_for_the_first_probe() {
         "{:?}",
         d.network
     );
+    server.stop().await;
     // A client that never answers a probe gets a decision on the prior
     // once the wait is over.
+    let (server, _dir) = waiting(200).await;
     let mut mute = Client::connect(&server, "bob").await;
     mute.auto = false;
     mute.hello(report(true)).await;
