@@ -203,7 +203,8 @@ const METHOD = (run) => `## Method
   for the baseline two animation frames after its draw), then a screenshot of the viewer, checked not blank: at least
   0.5 % of its pixels differ from the corner (background) pixel and the luminance spread σ ≥ 2; else the case fails.
 - Bytes: CDP \`Network.loadingFinished\` encoded lengths + WebSocket frames received. The harness's code chunks are
-  served by the bench (page.route) with the link's cost added (RTT + size / rate); frep.wasm comes from the server.
+  served by the bench (page.route), counted and charged to the link (RTT + size / rate) at their brotli size, as the
+  studio's precompressed code would cross it; frep.wasm comes from the server.
 - Links: loopback, or a shaping TCP proxy in Node on 127.0.0.1 (web/bench/paper-link.mjs) between the browser and
   the server: each direction serialised at the link rate (shared by the link's connections), then delayed RTT/2;
   HTTP and the session WebSocket alike (CDP's network emulation leaves the WebSocket unthrottled).
