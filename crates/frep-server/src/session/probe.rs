@@ -66,10 +66,8 @@ impl Round {
 
     /// ms to send `bytes` at the round's bandwidth so far (0 before any).
     fn predicted_ms(&self, bytes: u64) -> f64 {
-        if self.bytes == 0 || self.transfer_ms <= 0.0 {
-            return 0.0;
-        }
-        bytes as f64 * self.transfer_ms / self.bytes as f64
+        self.bandwidth()
+            .map_or(0.0, |bps| bytes as f64 * 8.0 / bps * 1e3)
     }
 }
 
@@ -154,21 +152,25 @@ impl Prober {
     /// The current estimate (priors where nothing is measured; `samples`
     /// counts pongs and probes).
     pub fn estimate(&self) -> NetworkEstimate {
-        let so_far = self.round.as_ref().and_then(Round::bandwidth);
         NetworkEstimate {
             rtt_ms: self.rtt_ms(),
             bandwidth_bps: self
-                .bandwidth
-                .or(so_far)
+                .measured_bandwidth()
                 .unwrap_or(self.config.prior_bandwidth_bps),
             samples: self.rtts.len() as u32 + self.probes,
         }
     }
 
+    /// The last round's bandwidth, else the one under way's so far.
+    fn measured_bandwidth(&self) -> Option<f64> {
+        self.bandwidth
+            .or_else(|| self.round.as_ref().and_then(Round::bandwidth))
+    }
+
     /// Whether a bandwidth figure was measured (a round, or a probe of the
     /// one under way).
     pub fn has_bandwidth(&self) -> bool {
-        self.bandwidth.is_some() || self.round.as_ref().is_some_and(|r| r.bytes > 0)
+        self.measured_bandwidth().is_some()
     }
 
     /// Whether a ping is due.
@@ -241,10 +243,8 @@ impl Prober {
     }
 
     fn finish_round(&mut self) {
-        if let Some(r) = self.round.take() {
-            if r.bytes > 0 && r.transfer_ms > 0.0 {
-                self.bandwidth = Some(r.bytes as f64 * 8.0 / (r.transfer_ms / 1e3));
-            }
+        if let Some(bps) = self.round.take().and_then(|r| r.bandwidth()) {
+            self.bandwidth = Some(bps);
         }
         self.outstanding = None;
     }
