@@ -315,10 +315,25 @@ impl Session {
 
     /// Whether the first decision still waits for the first probe.
     fn awaiting_probe(&self) -> bool {
+        self.first_decision_deadline().is_some()
+    }
+
+    /// When the first decision's wait for a probe ends, while it waits (the
+    /// session loop calls [`Session::first_decision_due`] then).
+    pub fn first_decision_deadline(&self) -> Option<Instant> {
         let wait = Duration::from_millis(self.config.first_decision_wait_ms);
-        !self.prober.has_bandwidth()
-            && self.prober.probing()
-            && self.hello_at.is_some_and(|t| t.elapsed() < wait)
+        let waiting =
+            !self.decider.connected() && !self.prober.has_bandwidth() && self.prober.probing();
+        self.hello_at
+            .filter(|t| waiting && t.elapsed() < wait)
+            .map(|t| t + wait)
+    }
+
+    /// The first decision's wait for a probe is over: decide on the prior.
+    pub fn first_decision_due(&mut self) {
+        if let Some(d) = self.connect() {
+            self.apply(d);
+        }
     }
 
     fn network(&mut self) -> Option<Decision> {
@@ -536,10 +551,6 @@ impl Session {
         let timeout = Duration::from_millis(self.config.frame_ack_timeout_ms);
         self.in_flight
             .retain(|_, f| at.duration_since(f.sent) < timeout);
-        // The first decision's wait for a probe is over.
-        if let Some(d) = self.connect() {
-            self.apply(d);
-        }
         let now = self.now();
         if now.saturating_sub(self.last_tick) >= self.config.tick_ms {
             self.last_tick = now;

@@ -144,13 +144,20 @@ async fn serve(
     let mut changes = state.changes.subscribe();
     let mut shutdown = state.shutdown.clone();
     let cfg = s.config();
-    // Often enough to end the first decision's wait for a probe in time.
-    let wait = cfg.first_decision_wait_ms.max(1).div_ceil(4);
-    let every = cfg.tick_ms.min(cfg.ping_ms).min(wait).clamp(10, 500);
+    let every = cfg.tick_ms.min(cfg.ping_ms).clamp(10, 500);
     let mut tick = tokio::time::interval(Duration::from_millis(every));
     tick.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
     s.welcome();
     loop {
+        // The first decision's wait for a probe ends at its own deadline,
+        // not at the next tick.
+        let deadline = s.first_decision_deadline();
+        let first_due = async move {
+            match deadline {
+                Some(t) => tokio::time::sleep_until(t.into()).await,
+                None => std::future::pending().await,
+            }
+        };
         for msg in s.take_outbox() {
             if let Err(e) = socket.send(msg).await {
                 tracing::debug!("send failed: {e}");
@@ -172,6 +179,7 @@ async fn serve(
             },
             Some(event) = events.recv() => s.event(event),
             _ = tick.tick() => s.tick(),
+            () = first_due => s.first_decision_due(),
             change = changes.recv() => match change {
                 Ok(c) => s.change(&c),
                 Err(broadcast::error::RecvError::Lagged(n)) => s.lagged(n),
